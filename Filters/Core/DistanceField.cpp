@@ -1,0 +1,1 @@
+#include "DistanceField.h"

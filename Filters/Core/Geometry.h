@@ -1,0 +1,92 @@
+// StrataMesh core: 2D geometry primitives (no VTK).
+#ifndef StrataMeshCore_Geometry_h
+#define StrataMeshCore_Geometry_h
+
+#include <algorithm>
+#include <cmath>
+
+namespace strata
+{
+
+/// A point or vector in the plane.
+struct Vec2
+{
+  double x = 0.0;
+  double y = 0.0;
+};
+
+inline Vec2 operator+(Vec2 a, Vec2 b) { return { a.x + b.x, a.y + b.y }; }
+inline Vec2 operator-(Vec2 a, Vec2 b) { return { a.x - b.x, a.y - b.y }; }
+inline Vec2 operator*(double s, Vec2 a) { return { s * a.x, s * a.y }; }
+inline bool operator==(Vec2 a, Vec2 b) { return a.x == b.x && a.y == b.y; }
+inline bool operator!=(Vec2 a, Vec2 b) { return !(a == b); }
+inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
+/// z component of the 3D cross product (a, 0) x (b, 0).
+inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
+inline double norm2(Vec2 a) { return dot(a, a); }
+inline double norm(Vec2 a) { return std::sqrt(dot(a, a)); }
+
+/// Twice the signed area of triangle abc: > 0 counter-clockwise, < 0 clockwise, 0 collinear.
+/// Computed relative to a so that coordinates far from the origin lose no precision needlessly.
+inline double orient2d(Vec2 a, Vec2 b, Vec2 c)
+{
+  return cross(b - a, c - a);
+}
+
+/// Axis-aligned bounding box; empty when min > max.
+struct Box2
+{
+  Vec2 min{ HUGE_VAL, HUGE_VAL };
+  Vec2 max{ -HUGE_VAL, -HUGE_VAL };
+
+  bool empty() const { return min.x > max.x || min.y > max.y; }
+  void add(Vec2 p)
+  {
+    min.x = std::min(min.x, p.x);
+    min.y = std::min(min.y, p.y);
+    max.x = std::max(max.x, p.x);
+    max.y = std::max(max.y, p.y);
+  }
+  void add(const Box2& b)
+  {
+    if (!b.empty())
+    {
+      add(b.min);
+      add(b.max);
+    }
+  }
+  double width() const { return empty() ? 0.0 : max.x - min.x; }
+  double height() const { return empty() ? 0.0 : max.y - min.y; }
+  double diagonal() const { return empty() ? 0.0 : norm(max - min); }
+  Vec2 center() const { return 0.5 * (min + max); }
+  /// Squared distance from p to the box (0 inside).
+  double distance2(Vec2 p) const
+  {
+    const double dx = std::max({ min.x - p.x, 0.0, p.x - max.x });
+    const double dy = std::max({ min.y - p.y, 0.0, p.y - max.y });
+    return dx * dx + dy * dy;
+  }
+};
+
+/// Squared distance from p to segment ab; t receives the parameter of the closest point
+/// (0 at a, 1 at b), clamped to [0, 1]. A zero-length segment is its point a.
+inline double pointSegmentDistance2(Vec2 p, Vec2 a, Vec2 b, double* t = nullptr)
+{
+  const Vec2 ab = b - a;
+  const double len2 = norm2(ab);
+  double s = 0.0;
+  if (len2 > 0.0)
+  {
+    s = std::clamp(dot(p - a, ab) / len2, 0.0, 1.0);
+  }
+  if (t)
+  {
+    *t = s;
+  }
+  const Vec2 q = (s == 1.0) ? b : a + s * ab;
+  return norm2(p - q);
+}
+
+} // namespace strata
+
+#endif

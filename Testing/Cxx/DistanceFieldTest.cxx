@@ -1,0 +1,2 @@
+#include "DistanceField.h"
+#include <gtest/gtest.h>

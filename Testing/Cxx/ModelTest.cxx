@@ -1,0 +1,2 @@
+#include "Model.h"
+#include <gtest/gtest.h>

@@ -1,0 +1,2 @@
+#include "StripTree.h"
+#include <gtest/gtest.h>
