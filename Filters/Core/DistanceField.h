@@ -14,10 +14,10 @@ namespace strata
 /// What the distance field knows about a point.
 struct PointQuery
 {
-  int region = -1;              ///< id of the region containing the point, -1 for none
-  double signedDistance = 0.0;  ///< + distance to that region's boundary inside a region,
-                                ///< - distance to the nearest boundary outside every region
-  double boundaryDistance = 0.0;///< distance to the nearest boundary of any region (>= 0)
+  int region = -1;                ///< id of the region containing the point, -1 for none
+  double signedDistance = 0.0;    ///< + distance to that region's boundary inside a region,
+                                  ///< - distance to the nearest boundary outside every region
+  double boundaryDistance = 0.0;  ///< distance to the nearest boundary of any region (>= 0)
   std::int64_t nearestCurve = -1; ///< input cell id of the nearest boundary segment
 };
 
@@ -51,13 +51,16 @@ private:
   {
     int id = -1;
     Box2 bounds;
-    StripTree tree;
-    std::vector<std::int64_t> segmentCell; // input cell of each segment
-    // Segments incident to each segment's start and end vertex beyond the ring's own
-    // neighbours, for the sector rule at vertices shared by several rings.
-    std::vector<int> startStar, endStar;   // index into starts/ends, -1 when none
-    std::vector<int> prev, next;           // neighbouring segment within the ring
-    std::vector<std::vector<int>> stars;   // segment lists of shared vertices
+    StripTree tree;              // all segments of all rings, ring after ring
+    std::vector<int> prev, next; // neighbouring segment within the ring
+    // Vertices shared by several rings (or visited twice by one ring): all segments of the
+    // region incident to them, for the sector rule. startStar[s] / endStar[s] index the star
+    // of segment s's start / end vertex, -1 when that vertex is not shared. Star k holds
+    // starEdges[starOffsets[k] .. starOffsets[k + 1]), each 2 * segment + (1 if the segment
+    // leaves the vertex, 0 if it arrives there).
+    std::vector<int> startStar, endStar;
+    std::vector<int> starOffsets;
+    std::vector<int> starEdges;
   };
   double signedDistanceImpl(const RegionTree& r, Vec2 p, Scratch& scratch) const;
 

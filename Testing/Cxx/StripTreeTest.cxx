@@ -1,2 +1,610 @@
+// Tests of the strip tree: exact nearest-segment queries, compared with a brute-force scan.
 #include "StripTree.h"
+
+#include "Errors.h"
+#include "VtpAscii.h"
+
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+
+using strata::NearestSegment;
+using strata::StripTree;
+using strata::StripTreeScratch;
+using strata::Vec2;
+
+// The models of Data/ used by the data-driven tests.
+const std::vector<std::string> kModels = { "lake_superior.vtp",
+  "lake_superior_full.vtp",
+  "nested_holes.vtp",
+  "touching_loops.vtp",
+  "gulf_section.vtp",
+  "gulf_section_loops.vtp",
+  "salt_dome.vtp",
+  "salt_dome_loops.vtp",
+  "countries_westeurope.vtp",
+  "countries_westeurope_loops.vtp",
+  "geology_marmousi.vtp",
+  "pinch_out.vtp",
+  "thin_layer.vtp",
+  "guitar.vtp" };
+
+struct Segments
+{
+  std::vector<Vec2> a, b;
+  strata::Box2 box;
+};
+
+// The segments of every cell of a model file (consecutive points of each cell; polygon cells
+// also get their closing segment). No Model involved: the tree works on any segment soup.
+Segments readSegments(const std::string& name)
+{
+  const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(name));
+  Segments s;
+  for (std::size_t c = 0; c < raw.numberOfCells(); ++c)
+  {
+    const std::int64_t begin = raw.offsets[c];
+    const std::int64_t end = raw.offsets[c + 1];
+    for (std::int64_t k = begin; k + 1 < end; ++k)
+    {
+      s.a.push_back(raw.points[raw.connectivity[k]]);
+      s.b.push_back(raw.points[raw.connectivity[k + 1]]);
+    }
+    if (!raw.kinds.empty() && raw.kinds[c] == strata::CellKind::Polygon && end - begin > 2)
+    {
+      s.a.push_back(raw.points[raw.connectivity[end - 1]]);
+      s.b.push_back(raw.points[raw.connectivity[begin]]);
+    }
+  }
+  for (std::size_t i = 0; i < s.a.size(); ++i)
+  {
+    s.box.add(s.a[i]);
+    s.box.add(s.b[i]);
+  }
+  return s;
+}
+
+// The plain reference: the minimum of pointSegmentDistance2 over all segments.
+double plainBruteForce2(const Segments& s, Vec2 p)
+{
+  double best = HUGE_VAL;
+  for (std::size_t i = 0; i < s.a.size(); ++i)
+  {
+    best = std::min(best, strata::pointSegmentDistance2(p, s.a[i], s.b[i]));
+  }
+  return best;
+}
+
+// The same minimum, faster: segments are grouped in blocks of 16 consecutive ones, and a block
+// (or segment) whose bounding box is farther than the best distance so far plus a margin is
+// skipped without evaluating pointSegmentDistance2. The margin (1e-9 of the largest
+// coordinate magnitude) exceeds the rounding error of the computed distances by orders of
+// magnitude, so a skipped segment never has the smaller computed distance: the result is
+// bit-identical to plainBruteForce2 (checked by a test below). Still a linear scan.
+struct BruteForce
+{
+  struct Box
+  {
+    double x0 = HUGE_VAL, y0 = HUGE_VAL, x1 = -HUGE_VAL, y1 = -HUGE_VAL;
+    void add(Vec2 p)
+    {
+      x0 = std::min(x0, p.x);
+      y0 = std::min(y0, p.y);
+      x1 = std::max(x1, p.x);
+      y1 = std::max(y1, p.y);
+    }
+    double distance2(Vec2 p) const
+    {
+      const double dx = std::max(std::max(x0 - p.x, p.x - x1), 0.0);
+      const double dy = std::max(std::max(y0 - p.y, p.y - y1), 0.0);
+      return dx * dx + dy * dy;
+    }
+  };
+  static constexpr std::size_t kBlock = 16;
+
+  explicit BruteForce(const Segments& s)
+    : S(s)
+  {
+    double magnitude = 0.0;
+    for (std::size_t i = 0; i < s.a.size(); ++i)
+    {
+      Box box;
+      box.add(s.a[i]);
+      box.add(s.b[i]);
+      Boxes.push_back(box);
+      if (i % kBlock == 0)
+      {
+        Blocks.emplace_back();
+      }
+      Blocks.back().add(s.a[i]);
+      Blocks.back().add(s.b[i]);
+      magnitude = std::max({ magnitude,
+        std::abs(s.a[i].x),
+        std::abs(s.a[i].y),
+        std::abs(s.b[i].x),
+        std::abs(s.b[i].y) });
+    }
+    Margin = 1e-9 * magnitude;
+  }
+
+  double nearest2(Vec2 p) const
+  {
+    double best = HUGE_VAL;
+    double threshold2 = HUGE_VAL;
+    auto scanBlock = [&](std::size_t k)
+    {
+      const std::size_t end = std::min(Boxes.size(), (k + 1) * kBlock);
+      for (std::size_t i = k * kBlock; i < end; ++i)
+      {
+        if (Boxes[i].distance2(p) > threshold2)
+        {
+          continue;
+        }
+        const double d2 = strata::pointSegmentDistance2(p, S.a[i], S.b[i]);
+        if (d2 < best)
+        {
+          best = d2;
+          const double t = std::sqrt(best) + Margin;
+          threshold2 = t * t;
+        }
+      }
+    };
+    // Start with the block of the nearest box for a tight threshold, then scan all blocks.
+    std::size_t first = 0;
+    double firstD2 = HUGE_VAL;
+    for (std::size_t k = 0; k < Blocks.size(); ++k)
+    {
+      const double d2 = Blocks[k].distance2(p);
+      if (d2 < firstD2)
+      {
+        firstD2 = d2;
+        first = k;
+      }
+    }
+    if (!Blocks.empty())
+    {
+      scanBlock(first);
+    }
+    for (std::size_t k = 0; k < Blocks.size(); ++k)
+    {
+      if (Blocks[k].distance2(p) <= threshold2)
+      {
+        scanBlock(k);
+      }
+    }
+    return best;
+  }
+
+  const Segments& S;
+  std::vector<Box> Boxes, Blocks;
+  double Margin = 0.0;
+};
+
+// Runs body(i, scratch) for i in [0, n) on all cores, one scratch per thread.
+void parallelFor(std::size_t n, const std::function<void(std::size_t, StripTreeScratch&)>& body)
+{
+  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  std::atomic<std::size_t> next{ 0 };
+  std::vector<std::thread> pool;
+  for (unsigned t = 0; t < threads; ++t)
+  {
+    pool.emplace_back(
+      [&]()
+      {
+        StripTreeScratch scratch;
+        for (std::size_t i = next.fetch_add(256); i < n; i = next.fetch_add(256))
+        {
+          for (std::size_t j = i; j < std::min(n, i + 256); ++j)
+          {
+            body(j, scratch);
+          }
+        }
+      });
+  }
+  for (std::thread& t : pool)
+  {
+    t.join();
+  }
+}
+
+// Checks the tree against brute force at every point: exact distance (relative error below
+// 1e-12; exactly 0 when brute force gives 0) and a result consistent with its own segment.
+// Returns the number of mismatches and describes the first one.
+std::size_t compareWithBruteForce(const Segments& s,
+  const StripTree& tree,
+  const std::vector<Vec2>& points,
+  std::string& first)
+{
+  const BruteForce bruteForce(s);
+  std::atomic<std::size_t> bad{ 0 };
+  std::vector<std::string> messages(points.size());
+  parallelFor(points.size(),
+    [&](std::size_t i, StripTreeScratch& scratch)
+    {
+      const Vec2 p = points[i];
+      const NearestSegment ns = tree.nearest(p, scratch);
+      const double bf2 = bruteForce.nearest2(p);
+      bool ok = ns.segment >= 0 && ns.segment < static_cast<int>(s.a.size());
+      if (ok)
+      {
+        double t;
+        const double own2 = strata::pointSegmentDistance2(p, s.a[ns.segment], s.b[ns.segment], &t);
+        ok = own2 == ns.distance2 && t == ns.t && ns.t >= 0.0 && ns.t <= 1.0;
+      }
+      if (ok)
+      {
+        const double d = std::sqrt(ns.distance2);
+        const double bf = std::sqrt(bf2);
+        ok = bf2 == 0.0 ? ns.distance2 == 0.0 : std::abs(d - bf) <= 1e-12 * bf;
+      }
+      if (!ok)
+      {
+        std::ostringstream msg;
+        msg.precision(17);
+        msg << "p = (" << p.x << ", " << p.y << "): tree gives segment " << ns.segment
+            << " at distance^2 " << ns.distance2 << " (t = " << ns.t << "), brute force " << bf2;
+        messages[i] = msg.str();
+        ++bad;
+      }
+    });
+  for (const std::string& m : messages)
+  {
+    if (!m.empty())
+    {
+      first = m;
+      break;
+    }
+  }
+  return bad;
+}
+
+std::vector<Vec2> randomPoints(const strata::Box2& box,
+  double margin,
+  std::size_t n,
+  std::mt19937_64& rng)
+{
+  const double mx = margin * std::max(box.width(), box.height());
+  std::uniform_real_distribution<double> ux(box.min.x - mx, box.max.x + mx);
+  std::uniform_real_distribution<double> uy(box.min.y - mx, box.max.y + mx);
+  std::vector<Vec2> points(n);
+  for (Vec2& p : points)
+  {
+    p = { ux(rng), uy(rng) };
+  }
+  return points;
+}
+
+} // namespace
+
+TEST(StripTreeTest, empty_tree_finds_no_segment)
+{
+  StripTreeScratch scratch;
+  const StripTree tree;
+  EXPECT_EQ(tree.numberOfSegments(), 0u);
+  EXPECT_EQ(tree.numberOfNodes(), 0u);
+  const NearestSegment ns = tree.nearest({ 1.0, 2.0 }, scratch);
+  EXPECT_EQ(ns.segment, -1);
+  EXPECT_EQ(ns.distance2, HUGE_VAL);
+
+  const StripTree built(std::vector<Vec2>{}, std::vector<Vec2>{});
+  EXPECT_EQ(built.nearest({ 0.0, 0.0 }, scratch).segment, -1);
+}
+
+TEST(StripTreeTest, mismatched_segment_ends_throw_parameter_error)
+{
+  EXPECT_THROW(StripTree({ { 0, 0 }, { 1, 0 } }, { { 1, 0 } }), strata::ParameterError);
+}
+
+TEST(StripTreeTest, single_segment_gives_exact_distance_and_parameter)
+{
+  StripTreeScratch scratch;
+  const StripTree tree({ { 0.0, 0.0 } }, { { 4.0, 0.0 } });
+  EXPECT_EQ(tree.numberOfNodes(), 1u);
+  EXPECT_EQ(tree.segmentStart(0), Vec2({ 0.0, 0.0 }));
+  EXPECT_EQ(tree.segmentEnd(0), Vec2({ 4.0, 0.0 }));
+
+  NearestSegment ns = tree.nearest({ 1.0, 3.0 }, scratch);
+  EXPECT_EQ(ns.segment, 0);
+  EXPECT_EQ(ns.distance2, 9.0);
+  EXPECT_EQ(ns.t, 0.25);
+
+  ns = tree.nearest({ -3.0, 4.0 }, scratch); // beyond the start
+  EXPECT_EQ(ns.distance2, 25.0);
+  EXPECT_EQ(ns.t, 0.0);
+
+  ns = tree.nearest({ 7.0, -4.0 }, scratch); // beyond the end
+  EXPECT_EQ(ns.distance2, 25.0);
+  EXPECT_EQ(ns.t, 1.0);
+
+  ns = tree.nearest({ 2.0, 0.0 }, scratch); // on the segment
+  EXPECT_EQ(ns.distance2, 0.0);
+  EXPECT_EQ(ns.t, 0.5);
+}
+
+TEST(StripTreeTest, zero_length_segment_is_its_point)
+{
+  StripTreeScratch scratch;
+  const StripTree single({ { 1.0, 1.0 } }, { { 1.0, 1.0 } });
+  NearestSegment ns = single.nearest({ 4.0, 5.0 }, scratch);
+  EXPECT_EQ(ns.segment, 0);
+  EXPECT_EQ(ns.distance2, 25.0);
+  EXPECT_EQ(ns.t, 0.0);
+  EXPECT_EQ(single.nearest({ 1.0, 1.0 }, scratch).distance2, 0.0);
+
+  // Zero-length segments mixed into a curve, and a whole run collapsed to one point.
+  Segments s;
+  for (int i = 0; i < 100; ++i)
+  {
+    const Vec2 p{ std::cos(0.1 * i), std::sin(0.1 * i) };
+    s.a.push_back(p);
+    s.b.push_back(i % 3 == 0 ? p : Vec2{ std::cos(0.1 * (i + 1)), std::sin(0.1 * (i + 1)) });
+  }
+  for (int i = 0; i < 40; ++i)
+  {
+    s.a.push_back({ 2.0, 2.0 });
+    s.b.push_back({ 2.0, 2.0 });
+  }
+  for (std::size_t i = 0; i < s.a.size(); ++i)
+  {
+    s.box.add(s.a[i]);
+    s.box.add(s.b[i]);
+  }
+  const StripTree tree(s.a, s.b);
+  std::mt19937_64 rng(7);
+  std::vector<Vec2> points = randomPoints(s.box, 0.5, 20000, rng);
+  points.push_back({ 2.0, 2.0 });
+  points.insert(points.end(), s.a.begin(), s.a.end());
+  std::string first;
+  EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
+}
+
+TEST(StripTreeTest, tree_has_two_n_minus_one_nodes)
+{
+  for (int n : { 1, 2, 3, 7, 8, 9, 100, 1023, 1024, 1025 })
+  {
+    std::vector<Vec2> a(n), b(n);
+    for (int i = 0; i < n; ++i)
+    {
+      a[i] = { double(i), 0.0 };
+      b[i] = { double(i + 1), 0.0 };
+    }
+    const StripTree tree(a, b);
+    EXPECT_EQ(tree.numberOfSegments(), std::size_t(n));
+    EXPECT_EQ(tree.numberOfNodes(), std::size_t(2 * n - 1));
+  }
+}
+
+TEST(StripTreeTest, nearest_equals_brute_force_on_random_points)
+{
+  // 1e5 points per model in the model's box grown by 10% on each side.
+  std::mt19937_64 rng(12345);
+  for (const std::string& name : kModels)
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    ASSERT_FALSE(s.a.empty());
+    const StripTree tree(s.a, s.b);
+    const std::vector<Vec2> points = randomPoints(s.box, 0.1, 100000, rng);
+    std::string first;
+    EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
+  }
+}
+
+TEST(StripTreeTest, brute_force_reference_with_box_skipping_equals_plain_scan)
+{
+  std::mt19937_64 rng(8);
+  for (const std::string& name : { "lake_superior_full.vtp", "countries_westeurope.vtp" })
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    const BruteForce bruteForce(s);
+    std::vector<Vec2> points = randomPoints(s.box, 0.1, 3000, rng);
+    points.insert(points.end(), s.a.begin(), s.a.begin() + 1000);
+    for (std::size_t i = 0; i < 1000; ++i)
+    {
+      points.push_back(s.a[i] + 0.3 * (s.b[i] - s.a[i]));
+    }
+    std::size_t differ = 0;
+    for (const Vec2 p : points)
+    {
+      differ += bruteForce.nearest2(p) != plainBruteForce2(s, p);
+    }
+    EXPECT_EQ(differ, 0u);
+  }
+}
+
+TEST(StripTreeTest, nearest_equals_brute_force_far_outside)
+{
+  // Points 10 to 1e6 model sizes away: many nodes have nearly equal bounds.
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * M_PI);
+  std::uniform_real_distribution<double> exponent(1.0, 6.0);
+  for (const std::string& name : kModels)
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    const StripTree tree(s.a, s.b);
+    const double size = s.box.diagonal();
+    std::vector<Vec2> points;
+    for (int i = 0; i < 5000; ++i)
+    {
+      const double r = size * std::pow(10.0, exponent(rng));
+      const double phi = angle(rng);
+      points.push_back(s.box.center() + Vec2{ r * std::cos(phi), r * std::sin(phi) });
+    }
+    std::string first;
+    EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
+  }
+}
+
+TEST(StripTreeTest, nearest_is_zero_on_vertices_and_segment_interiors)
+{
+  // Every vertex (distance exactly 0) and a point inside every segment (distance 0 or a
+  // rounding residue, equal to brute force).
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const std::string& name : kModels)
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    const StripTree tree(s.a, s.b);
+    std::vector<Vec2> vertices, interior;
+    for (std::size_t i = 0; i < s.a.size(); ++i)
+    {
+      vertices.push_back(s.a[i]);
+      vertices.push_back(s.b[i]);
+      const Vec2 d = s.b[i] - s.a[i];
+      interior.push_back(s.a[i] + u(rng) * d);
+      interior.push_back(s.a[i] + 0.5 * d);
+      // Axis-aligned segments give exact interior points.
+      if (d.x == 0.0 || d.y == 0.0)
+      {
+        interior.push_back(s.a[i] + 0.25 * d);
+      }
+    }
+    StripTreeScratch scratch;
+    std::size_t nonzero = 0;
+    for (const Vec2 v : vertices)
+    {
+      nonzero += tree.nearest(v, scratch).distance2 != 0.0;
+    }
+    EXPECT_EQ(nonzero, 0u);
+    std::string first;
+    EXPECT_EQ(compareWithBruteForce(s, tree, interior, first), 0u) << first;
+  }
+}
+
+TEST(StripTreeTest, nearest_equals_brute_force_on_degenerate_layouts)
+{
+  // Collinear runs (widths 0), duplicated segments, a segment soup with no connectivity, and
+  // points exactly on the common line.
+  Segments s;
+  for (int i = 0; i < 500; ++i)
+  {
+    s.a.push_back({ double(i), 0.0 });
+    s.b.push_back({ double(i + 1), 0.0 });
+  }
+  for (int i = 0; i < 100; ++i)
+  {
+    s.a.push_back({ 10.0, 5.0 });
+    s.b.push_back({ 20.0, 5.0 });
+  }
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-50.0, 550.0);
+  for (int i = 0; i < 500; ++i)
+  {
+    s.a.push_back({ u(rng), u(rng) });
+    s.b.push_back({ u(rng), u(rng) });
+  }
+  for (std::size_t i = 0; i < s.a.size(); ++i)
+  {
+    s.box.add(s.a[i]);
+    s.box.add(s.b[i]);
+  }
+  const StripTree tree(s.a, s.b);
+  std::vector<Vec2> points = randomPoints(s.box, 0.2, 20000, rng);
+  for (int i = 0; i < 2000; ++i)
+  {
+    points.push_back({ u(rng), 0.0 });
+    points.push_back({ u(rng), 5.0 });
+  }
+  std::string first;
+  EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
+}
+
+TEST(StripTreeTest, nearest_equals_brute_force_on_a_million_segment_curve)
+{
+  // Closed flower curve (the root's central segment has length 0), 1e6 segments.
+  const int n = 1000000;
+  Segments s;
+  s.a.resize(n);
+  s.b.resize(n);
+  auto curve = [n](int i)
+  {
+    const double t = 2.0 * M_PI * (i % n) / n;
+    const double r = 1.0 + 0.3 * std::sin(17.0 * t) + 0.05 * std::sin(911.0 * t);
+    return Vec2{ r * std::cos(t), r * std::sin(t) };
+  };
+  for (int i = 0; i < n; ++i)
+  {
+    s.a[i] = curve(i);
+    s.b[i] = curve(i + 1);
+    s.box.add(s.a[i]);
+  }
+  const StripTree tree(s.a, s.b);
+  EXPECT_EQ(tree.numberOfNodes(), std::size_t(2 * n - 1));
+  std::mt19937_64 rng(1);
+  const std::vector<Vec2> points = randomPoints(s.box, 0.0, 300, rng);
+  std::string first;
+  EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
+}
+
+TEST(StripTreeTest, warm_scratch_does_not_grow)
+{
+  const Segments s = readSegments("lake_superior_full.vtp");
+  const StripTree tree(s.a, s.b);
+  std::mt19937_64 rng(5);
+  const std::vector<Vec2> points = randomPoints(s.box, 0.5, 20000, rng);
+  StripTreeScratch scratch;
+  for (const Vec2 p : points)
+  {
+    tree.nearest(p, scratch);
+  }
+  const std::size_t capacity = scratch.heap.capacity();
+  const auto* data = scratch.heap.data();
+  for (const Vec2 p : points)
+  {
+    tree.nearest(p, scratch);
+  }
+  EXPECT_EQ(scratch.heap.capacity(), capacity);
+  EXPECT_EQ(scratch.heap.data(), data);
+}
+
+TEST(StripTreeTest, concurrent_queries_with_own_scratch_agree_with_serial_ones)
+{
+  const Segments s = readSegments("countries_westeurope.vtp");
+  const StripTree tree(s.a, s.b);
+  std::mt19937_64 rng(6);
+  const std::vector<Vec2> points = randomPoints(s.box, 0.1, 50000, rng);
+  std::vector<NearestSegment> serial(points.size());
+  StripTreeScratch scratch;
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    serial[i] = tree.nearest(points[i], scratch);
+  }
+  std::vector<std::thread> threads;
+  std::atomic<int> mismatches{ 0 };
+  for (int t = 0; t < 4; ++t)
+  {
+    threads.emplace_back(
+      [&, t]()
+      {
+        StripTreeScratch own;
+        for (std::size_t i = t; i < points.size(); i += 2)
+        {
+          const NearestSegment ns = tree.nearest(points[i], own);
+          if (ns.segment != serial[i].segment || ns.distance2 != serial[i].distance2 ||
+            ns.t != serial[i].t)
+          {
+            ++mismatches;
+          }
+        }
+      });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+  EXPECT_EQ(mismatches, 0);
+}

@@ -1,5 +1,6 @@
 #include "VtpAscii.h"
 
+#include <algorithm>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -25,7 +26,9 @@ std::string arrayText(const std::string& xml, const std::string& marker, std::si
     return {};
   }
   const std::size_t open = xml.find('>', m);
-  const std::size_t close = xml.find("</DataArray>", open);
+  // The values end at the first child element (<InformationKey>) or at </DataArray>.
+  const std::size_t close =
+    std::min(xml.find("</DataArray>", open), open == std::string::npos ? open : xml.find('<', open));
   if (open == std::string::npos || close == std::string::npos)
   {
     throw std::runtime_error("malformed DataArray " + marker);

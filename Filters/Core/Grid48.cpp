@@ -1,0 +1,1158 @@
+// StrataMesh core: the adaptive 4-8 grid (paper Sections 2 and 2.1).
+//
+// Lattice and hierarchy
+// ---------------------
+// The domain is a square of side D around the model's bounds (bounds' larger side plus a
+// margin on every side). Vertices are points of the integer lattice {0..2^31}^2 on it, mapped
+// once to model coordinates by origin + (D / 2^31) * (i, j). Level 0 is four triangles
+// (centre, corner k, corner k + 1): right angle at the centre, hypotenuse = a side of the
+// square. A level-l triangle (v0, v1, v2) (counter-clockwise, right angle at v0, hypotenuse
+// v1-v2) is bisected at m = midpoint(v1, v2) into (m, v0, v1) and (m, v2, v0): again right
+// isosceles, right angle at the newest vertex m, hypotenuse = a leg of the parent. Level-2k
+// hypotenuses are axis-parallel with length 2^(31-k), level-2k+1 ones diagonal with
+// components 2^(30-k), so every midpoint up to the split of level 59 is a lattice point:
+// coordinates are exact integers, angles exactly 45/45/90, and a lattice point is the
+// midpoint of exactly one hypotenuse in the hierarchy, hence created once (shared vertices
+// without any lookup).
+//
+// Nodes are kept in flat arrays (struct of arrays): vertices, the three neighbours (across
+// v1-v2, v2-v0, v0-v1), first child (the two children are consecutive ids) and level; the
+// parent is stored once per pair of children. About 32 bytes per node and 17 per vertex;
+// a binary hierarchy has about two nodes per leaf and half a vertex per leaf.
+//
+// Conforming bisection (the 4-8 diamond rule)
+// -------------------------------------------
+// In a conforming 4-8 mesh the neighbour N across the hypotenuse of a leaf T of level l is
+// either of level l and shares the hypotenuse (T and N form a diamond), or of level l - 1 and
+// T's hypotenuse is one of N's legs. split(T): if N is coarser, split(N) first (recursively;
+// afterwards one of N's children shares T's hypotenuse); then bisect T and its partner at the
+// same new vertex and link the four children across the two halves of the old hypotenuse.
+// Neighbours outside the diamond keep pointing at the right child because each child takes
+// over one leg of its parent (replaceNeighbour). There is never a hanging vertex, and
+// neighbouring leaves differ by at most one level. Splitting level-l nodes only ever forces
+// splits of coarser nodes, so the nodes of level <= L (with the leaves coarser than L) form
+// the conforming mesh of level L: extract(L) is a cut through the hierarchy, and the meshes of
+// levels 0..L are nested.
+//
+// Refinement
+// ----------
+// A stack of leaves to examine starts with all current leaves; every split pushes the new
+// children (forced splits included), and popped nodes that are no longer leaves are skipped.
+// A leaf T of level l is split when
+//  (a) global (Section 2): l < maxLevel, and with m the hypotenuse midpoint, d = distance
+//      from m to the nearest boundary (DistanceField::boundaryDistance) and h the hypotenuse
+//      length: d > tolerance and h > d;
+//  (b) local (Section 2.1, l < localMaxLevel): T (closed) contains two or more polygon
+//      vertices, or is crossed (touched) by the segments of two or more boundary curves;
+//  (c) thin regions (l < localMaxLevel): T is crossed by one curve in two or more separate
+//      strands.
+// "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
+// shared by two loops in the Loops form is counted once) chained through the nodes where
+// exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
+// these are the input curves (joined at nodes of degree 2); in the Loops form a border shared
+// by two regions is one curve rather than two input loops, so both forms of one model refine
+// alike. With this definition the brief's rule "(c) crossed by two curves bounding the same
+// region, or by curves of three or more regions" is already contained in (b) whenever two
+// different curves are involved; what (c) adds is the same curve crossing T twice, i.e. a
+// region (or exterior gap) bounded on both sides by one curve: a lens, a fold, a narrow bay,
+// a thin layer given as one loop. Two hits of one curve belong to one strand when they are
+// consecutive along it and the node between them lies in T.
+// Whether the result is order independent: each criterion depends on the triangle only, and
+// every split made is required (by a criterion or by conformity of a required split), so the
+// result is the coarsest conforming refinement of the start in which no leaf meets a
+// criterion. Hence resuming with finer parameters equals building from scratch with them.
+//
+// Speed
+// -----
+// (a) is decided exactly, mostly without a best-first search in the strip tree:
+//  - bounds: T's corners are h / 2 away from m, so a corner with a known distance dv gives
+//    d in [dv - h / 2, dv + h / 2], which may settle h > d (and d > tolerance) at once;
+//  - when h spans at most four cells of the boundary index below, "is some segment closer
+//    than h to m" and "is some segment within the tolerance of m" are asked of the index:
+//    the same comparisons on the same exact point/segment distances, from a few cells;
+//  - otherwise (coarse levels) DistanceField::boundaryDistance, whose value is kept for the
+//    new vertex when the split happens (TriangleMesh::pointBoundaryDistance).
+// A "no" is shared with the diamond's partner (same midpoint, same level). When d > h / 2
+// (the hypotenuse midpoint is the circumcentre) no boundary touches the diamond: the local
+// test is skipped, and the children of a triangle that no model feature touches inherit that.
+// (b) and (c) query the boundary index (BoundaryIndex): a uniform grid of cells over the
+// domain, every model vertex listed in its cell and every distinct segment in the cells it
+// crosses; the triangle's bounding box selects cells, then exact tests (point in closed
+// triangle; segment/triangle by separating axes) decide, stopping as soon as the answer is
+// known.
+#include "Grid48.h"
+
+#include "Errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+
+namespace strata
+{
+
+namespace
+{
+
+constexpr int kLatticeBits = 31;
+constexpr std::uint32_t kLatticeSize = 1u << kLatticeBits;
+constexpr std::uint8_t kGlobalNo = 0x40; // global criterion already said no (this refine call)
+constexpr std::uint8_t kEmpty = 0x80;    // no model vertex or segment touches the triangle
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr int kNoLabel = std::numeric_limits<int>::min();
+constexpr int kMaxCells = 1024; // per axis, for the boundary index
+
+struct Domain
+{
+  Vec2 origin;
+  double side = 1.0;
+};
+
+Domain domainOf(const Box2& bounds, double margin)
+{
+  if (!(margin >= 0.0 && margin <= 1.0))
+  {
+    throw ParameterError("Grid48: margin " + std::to_string(margin) + " is not in [0, 1]");
+  }
+  Domain d;
+  if (bounds.empty())
+  {
+    d.side = 1.0;
+    d.origin = { -0.5, -0.5 };
+    return d;
+  }
+  if (!std::isfinite(bounds.min.x) || !std::isfinite(bounds.min.y) ||
+    !std::isfinite(bounds.max.x) || !std::isfinite(bounds.max.y))
+  {
+    throw ParameterError("Grid48: the bounds are not finite");
+  }
+  double s = std::max(bounds.width(), bounds.height());
+  if (!(s > 0.0))
+  {
+    s = 1.0 / (1.0 + 2.0 * margin);
+  }
+  d.side = s * (1.0 + 2.0 * margin);
+  d.origin = bounds.center() - 0.5 * Vec2{ d.side, d.side };
+  return d;
+}
+
+// Median length of the model's curve segments (0 when there are none).
+double medianSegmentLength(const Model& model)
+{
+  std::vector<double> lengths;
+  for (const Curve& c : model.curves)
+  {
+    const std::size_t n = c.points.size();
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      lengths.push_back(norm(c.points[i + 1] - c.points[i]));
+    }
+    if (c.closed && n > 2)
+    {
+      lengths.push_back(norm(c.points[0] - c.points[n - 1]));
+    }
+  }
+  if (lengths.empty())
+  {
+    return 0.0;
+  }
+  auto mid = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2);
+  std::nth_element(lengths.begin(), mid, lengths.end());
+  return *mid;
+}
+
+inline bool pointInTriangle(Vec2 q, Vec2 a, Vec2 b, Vec2 c)
+{
+  return orient2d(a, b, q) >= 0.0 && orient2d(b, c, q) >= 0.0 && orient2d(c, a, q) >= 0.0;
+}
+
+// Whether segment pq meets the closed counter-clockwise triangle abc (separating axes: the
+// three edge normals and the segment's normal; bounding boxes first).
+inline bool segmentMeetsTriangle(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2 c)
+{
+  if (std::max(p.x, q.x) < std::min({ a.x, b.x, c.x }) ||
+    std::min(p.x, q.x) > std::max({ a.x, b.x, c.x }) ||
+    std::max(p.y, q.y) < std::min({ a.y, b.y, c.y }) ||
+    std::min(p.y, q.y) > std::max({ a.y, b.y, c.y }))
+  {
+    return false;
+  }
+  if ((orient2d(a, b, p) < 0.0 && orient2d(a, b, q) < 0.0) ||
+    (orient2d(b, c, p) < 0.0 && orient2d(b, c, q) < 0.0) ||
+    (orient2d(c, a, p) < 0.0 && orient2d(c, a, q) < 0.0))
+  {
+    return false;
+  }
+  const double oa = orient2d(p, q, a);
+  const double ob = orient2d(p, q, b);
+  const double oc = orient2d(p, q, c);
+  return !((oa > 0.0 && ob > 0.0 && oc > 0.0) || (oa < 0.0 && ob < 0.0 && oc < 0.0));
+}
+
+// Whether segments ab and pq are within distance tol (closed). If they do not properly cross,
+// their distance is attained at an end point of one of them.
+inline bool segmentsWithin(Vec2 a, Vec2 b, Vec2 p, Vec2 q, double tol)
+{
+  if (std::max(p.x, q.x) < std::min(a.x, b.x) - tol ||
+    std::min(p.x, q.x) > std::max(a.x, b.x) + tol ||
+    std::max(p.y, q.y) < std::min(a.y, b.y) - tol || std::min(p.y, q.y) > std::max(a.y, b.y) + tol)
+  {
+    return false;
+  }
+  const double o1 = orient2d(a, b, p);
+  const double o2 = orient2d(a, b, q);
+  const double o3 = orient2d(p, q, a);
+  const double o4 = orient2d(p, q, b);
+  if (((o1 > 0.0 && o2 < 0.0) || (o1 < 0.0 && o2 > 0.0)) &&
+    ((o3 > 0.0 && o4 < 0.0) || (o3 < 0.0 && o4 > 0.0)))
+  {
+    return true;
+  }
+  const double t2 = tol * tol;
+  return pointSegmentDistance2(p, a, b) <= t2 || pointSegmentDistance2(q, a, b) <= t2 ||
+    pointSegmentDistance2(a, p, q) <= t2 || pointSegmentDistance2(b, p, q) <= t2;
+}
+
+} // namespace
+
+BoundaryIndex::BoundaryIndex(const Model& model, Vec2 origin, double side)
+{
+  this->build(model, origin, side);
+}
+
+BoundaryIndex::BoundaryIndex(const Model& model)
+{
+  const Domain d = domainOf(model.bounds, 0.01);
+  this->build(model, d.origin, d.side);
+}
+
+std::size_t BoundaryIndex::memoryBytes() const
+{
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return bytes(this->A) + bytes(this->B) + bytes(this->ChainOf) + bytes(this->ChainBegin) +
+    bytes(this->ChainLabels) + bytes(this->Nodes) + bytes(this->SegStart) + bytes(this->SegItems) +
+    bytes(this->NodeStart) + bytes(this->NodeItems) + bytes(this->Stamp) + bytes(this->Hits);
+}
+
+void BoundaryIndex::build(const Model& model, Vec2 origin, double side)
+{
+  this->Origin = origin;
+  // Distinct undirected segments, by node ids.
+  struct Seg
+  {
+    std::uint64_t key;
+    int u, v;
+    int left, right; // region ids on both sides; kNoLabel when unknown (Loops form)
+  };
+  const bool loops = model.form != ModelForm::SharedCurves;
+  std::vector<Seg> segs;
+  for (const Curve& c : model.curves)
+  {
+    const std::size_t n = c.nodes.size();
+    auto add = [&](int u, int v)
+    {
+      if (u != v)
+      {
+        const auto lo = static_cast<std::uint32_t>(std::min(u, v));
+        const auto hi = static_cast<std::uint32_t>(std::max(u, v));
+        segs.push_back({ (static_cast<std::uint64_t>(lo) << 32) | hi,
+          u,
+          v,
+          c.left,
+          loops ? kNoLabel : c.right });
+      }
+    };
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+      add(c.nodes[i], c.nodes[i + 1]);
+    }
+    if (c.closed && n > 2)
+    {
+      add(c.nodes[n - 1], c.nodes[0]);
+    }
+  }
+  std::sort(segs.begin(), segs.end(), [](const Seg& x, const Seg& y) { return x.key < y.key; });
+  {
+    // Merge the copies of a segment; in the Loops form its labels are the regions of the
+    // loops through it, plus the exterior when only one loop has it.
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < segs.size();)
+    {
+      std::size_t j = i + 1;
+      Seg merged = segs[i];
+      for (; j < segs.size() && segs[j].key == segs[i].key; ++j)
+      {
+        if (loops && merged.right == kNoLabel && segs[j].left != merged.left)
+        {
+          merged.right = segs[j].left;
+        }
+      }
+      if (loops && merged.right == kNoLabel)
+      {
+        merged.right = -1;
+      }
+      segs[out++] = merged;
+      i = j;
+    }
+    segs.resize(out);
+  }
+
+  // Node -> incident segments (CSR).
+  const std::size_t nodeCount = model.nodes.size();
+  std::vector<int> start(nodeCount + 1, 0);
+  for (const Seg& s : segs)
+  {
+    ++start[s.u + 1];
+    ++start[s.v + 1];
+  }
+  for (std::size_t i = 0; i < nodeCount; ++i)
+  {
+    start[i + 1] += start[i];
+  }
+  std::vector<int> incident(start.back());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t k = 0; k < segs.size(); ++k)
+    {
+      incident[fill[segs[k].u]++] = static_cast<int>(k);
+      incident[fill[segs[k].v]++] = static_cast<int>(k);
+    }
+  }
+  auto degree = [&](int node) { return start[node + 1] - start[node]; };
+
+  // Chains through nodes of degree 2.
+  std::vector<char> used(segs.size(), 0);
+  this->ChainBegin.push_back(0);
+  auto walk = [&](int node, int seg)
+  {
+    const int first = node;
+    while (true)
+    {
+      used[seg] = 1;
+      const int other = segs[seg].u == node ? segs[seg].v : segs[seg].u;
+      this->A.push_back(model.nodes[node]);
+      this->B.push_back(model.nodes[other]);
+      this->ChainOf.push_back(static_cast<int>(this->ChainBegin.size()) - 1);
+      if (node == first)
+      {
+        this->ChainLabels.push_back({ segs[seg].left, segs[seg].right });
+      }
+      node = other;
+      if (node == first || degree(node) != 2)
+      {
+        break;
+      }
+      const int e0 = incident[start[node]];
+      const int e1 = incident[start[node] + 1];
+      seg = e0 == seg ? e1 : e0;
+      if (used[seg])
+      {
+        break;
+      }
+    }
+    this->ChainBegin.push_back(static_cast<int>(this->A.size()));
+  };
+  for (std::size_t node = 0; node < nodeCount; ++node)
+  {
+    if (degree(static_cast<int>(node)) == 2)
+    {
+      continue;
+    }
+    for (int k = start[node]; k < start[node + 1]; ++k)
+    {
+      if (!used[incident[k]])
+      {
+        walk(static_cast<int>(node), incident[k]);
+      }
+    }
+  }
+  for (std::size_t k = 0; k < segs.size(); ++k)
+  {
+    if (!used[k])
+    {
+      walk(segs[k].u, static_cast<int>(k)); // a cycle without junction
+    }
+  }
+  this->Nodes = model.nodes;
+
+  // Uniform grid: cells about twice the median segment length, so that a cell holds a few
+  // segments of each curve through it; at least 2 sqrt(segments) and at most 1024 per axis.
+  const std::size_t ns = this->A.size();
+  const double median = medianSegmentLength(model);
+  const double bySize = median > 0.0 ? side / (2.0 * median) : 1.0;
+  this->Cells = static_cast<int>(
+    std::clamp(std::max(std::ceil(bySize), 2.0 * std::ceil(std::sqrt(static_cast<double>(ns)))),
+      1.0,
+      static_cast<double>(kMaxCells)));
+  this->CellSize = side / this->Cells;
+  this->InvCell = 1.0 / this->CellSize;
+  const std::size_t cellCount = static_cast<std::size_t>(this->Cells) * this->Cells;
+
+  this->NodeStart.assign(cellCount + 1, 0);
+  for (const Vec2& p : this->Nodes)
+  {
+    ++this->NodeStart[static_cast<std::size_t>(cellY(p.y)) * this->Cells + cellX(p.x) + 1];
+  }
+  for (std::size_t i = 0; i < cellCount; ++i)
+  {
+    this->NodeStart[i + 1] += this->NodeStart[i];
+  }
+  this->NodeItems.resize(this->Nodes.size());
+  {
+    std::vector<int> fill(this->NodeStart.begin(), this->NodeStart.end() - 1);
+    for (std::size_t i = 0; i < this->Nodes.size(); ++i)
+    {
+      const Vec2 p = this->Nodes[i];
+      this->NodeItems[fill[static_cast<std::size_t>(cellY(p.y)) * this->Cells + cellX(p.x)]++] =
+        static_cast<int>(i);
+    }
+  }
+
+  this->SegStart.assign(cellCount + 1, 0);
+  for (std::size_t s = 0; s < ns; ++s)
+  {
+    forSegmentCells(static_cast<int>(s), [&](std::size_t cell) { ++this->SegStart[cell + 1]; });
+  }
+  for (std::size_t i = 0; i < cellCount; ++i)
+  {
+    this->SegStart[i + 1] += this->SegStart[i];
+  }
+  this->SegItems.resize(this->SegStart.back());
+  {
+    std::vector<int> fill(this->SegStart.begin(), this->SegStart.end() - 1);
+    for (std::size_t s = 0; s < ns; ++s)
+    {
+      forSegmentCells(static_cast<int>(s),
+        [&](std::size_t cell) { this->SegItems[fill[cell]++] = static_cast<int>(s); });
+    }
+  }
+  this->Stamp.assign(ns, 0);
+}
+
+// Calls visit(cell) for every cell that segment s may cross: the cells of its bounding box
+// whose rectangle (padded by 1e-6 of a cell against rounding in cellX/cellY) it meets.
+template<typename Visit>
+void BoundaryIndex::forSegmentCells(int s, Visit&& visit) const
+{
+  const Vec2 p = this->A[s];
+  const Vec2 q = this->B[s];
+  const int x0 = cellX(std::min(p.x, q.x));
+  const int x1 = cellX(std::max(p.x, q.x));
+  const int y0 = cellY(std::min(p.y, q.y));
+  const int y1 = cellY(std::max(p.y, q.y));
+  const bool thin = x0 == x1 || y0 == y1;
+  const double pad = 1e-6 * this->CellSize;
+  for (int y = y0; y <= y1; ++y)
+  {
+    for (int x = x0; x <= x1; ++x)
+    {
+      if (!thin)
+      {
+        const Vec2 lo{ this->Origin.x + x * this->CellSize - pad,
+          this->Origin.y + y * this->CellSize - pad };
+        const Vec2 hi{ lo.x + this->CellSize + 2 * pad, lo.y + this->CellSize + 2 * pad };
+        const double o0 = orient2d(p, q, lo);
+        const double o1 = orient2d(p, q, { hi.x, lo.y });
+        const double o2 = orient2d(p, q, hi);
+        const double o3 = orient2d(p, q, { lo.x, hi.y });
+        if ((o0 > 0 && o1 > 0 && o2 > 0 && o3 > 0) || (o0 < 0 && o1 < 0 && o2 < 0 && o3 < 0))
+        {
+          continue;
+        }
+      }
+      visit(static_cast<std::size_t>(y) * this->Cells + x);
+    }
+  }
+}
+
+BoundaryIndex::TriangleResult BoundaryIndex::testTriangle(Vec2 a,
+  Vec2 b,
+  Vec2 c,
+  bool local,
+  bool thin)
+{
+  const int x0 = cellX(std::min({ a.x, b.x, c.x }));
+  const int x1 = cellX(std::max({ a.x, b.x, c.x }));
+  const int y0 = cellY(std::min({ a.y, b.y, c.y }));
+  const int y1 = cellY(std::max({ a.y, b.y, c.y }));
+
+  // Polygon vertices inside or on the triangle (without (b), one is enough to know that the
+  // triangle is not empty).
+  int vertices = 0;
+  const int enough = local ? 2 : 1;
+  for (int y = y0; y <= y1 && vertices < enough; ++y)
+  {
+    const std::size_t row = static_cast<std::size_t>(y) * this->Cells;
+    for (int k = this->NodeStart[row + x0]; k < this->NodeStart[row + x1 + 1]; ++k)
+    {
+      if (pointInTriangle(this->Nodes[this->NodeItems[k]], a, b, c) && ++vertices >= enough)
+      {
+        break;
+      }
+    }
+  }
+  if (local && vertices >= 2)
+  {
+    return CriterionHolds;
+  }
+
+  // Segments crossing or touching it.
+  if (++this->CurrentStamp == 0)
+  {
+    std::fill(this->Stamp.begin(), this->Stamp.end(), 0);
+    this->CurrentStamp = 1;
+  }
+  this->Hits.clear();
+  int chain = -1;
+  for (int y = y0; y <= y1; ++y)
+  {
+    for (int x = x0; x <= x1; ++x)
+    {
+      const std::size_t cell = static_cast<std::size_t>(y) * this->Cells + x;
+      for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
+      {
+        const int s = this->SegItems[k];
+        if (this->Stamp[s] == this->CurrentStamp)
+        {
+          continue;
+        }
+        this->Stamp[s] = this->CurrentStamp;
+        if (!segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+        {
+          continue;
+        }
+        if (local && chain >= 0 && this->ChainOf[s] != chain)
+        {
+          return CriterionHolds; // (b): two curves
+        }
+        chain = this->ChainOf[s];
+        this->Hits.push_back(s);
+      }
+    }
+  }
+  if (this->Hits.empty())
+  {
+    return vertices > 0 ? SomethingInside : NothingInside;
+  }
+  if (!thin)
+  {
+    return SomethingInside;
+  }
+
+  // (c): strands per curve (hits are grouped by curve once sorted, as curves are contiguous);
+  // without (b) also two curves sharing a region, or three regions.
+  std::sort(this->Hits.begin(), this->Hits.end());
+  int labels[8];
+  int labelCount = 0;
+  const std::size_t n = this->Hits.size();
+  for (std::size_t i = 0; i < n;)
+  {
+    const int curve = this->ChainOf[this->Hits[i]];
+    std::size_t j = i + 1;
+    int strands = 1;
+    for (; j < n && this->ChainOf[this->Hits[j]] == curve; ++j)
+    {
+      const int s = this->Hits[j - 1];
+      if (this->Hits[j] != s + 1 || !pointInTriangle(this->B[s], a, b, c))
+      {
+        ++strands;
+      }
+    }
+    const int first = this->ChainBegin[curve];
+    const int last = this->ChainBegin[curve + 1] - 1;
+    if (strands > 1 && this->Hits[i] == first && this->Hits[j - 1] == last &&
+      this->B[last] == this->A[first] && pointInTriangle(this->A[first], a, b, c))
+    {
+      --strands; // the strand wraps around the start of a closed curve
+    }
+    if (strands > 1)
+    {
+      return CriterionHolds;
+    }
+    if (!local)
+    {
+      const std::array<int, 2>& cl = this->ChainLabels[curve];
+      const bool shared = std::find(labels, labels + labelCount, cl[0]) != labels + labelCount ||
+        std::find(labels, labels + labelCount, cl[1]) != labels + labelCount;
+      if (shared && i > 0)
+      {
+        return CriterionHolds; // two curves bounding the same region
+      }
+      for (const int l : cl)
+      {
+        if (std::find(labels, labels + labelCount, l) == labels + labelCount)
+        {
+          labels[labelCount++] = l;
+        }
+      }
+      if (labelCount >= 3)
+      {
+        return CriterionHolds; // curves of three regions
+      }
+    }
+    i = j;
+  }
+  return SomethingInside;
+}
+
+template<typename Visit>
+bool BoundaryIndex::anySegment(double x0, double y0, double x1, double y1, Visit&& visit)
+{
+  const int cx0 = cellX(x0);
+  const int cx1 = cellX(x1);
+  const int cy0 = cellY(y0);
+  const int cy1 = cellY(y1);
+  if (cx0 == cx1 && cy0 == cy1)
+  {
+    // One cell (the common case for small queries): no duplicates, no stamps.
+    const std::size_t cell = static_cast<std::size_t>(cy0) * this->Cells + cx0;
+    for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
+    {
+      if (visit(this->SegItems[k]))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+  if (++this->CurrentStamp == 0)
+  {
+    std::fill(this->Stamp.begin(), this->Stamp.end(), 0);
+    this->CurrentStamp = 1;
+  }
+  for (int y = cy0; y <= cy1; ++y)
+  {
+    for (int x = cx0; x <= cx1; ++x)
+    {
+      const std::size_t cell = static_cast<std::size_t>(y) * this->Cells + x;
+      for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
+      {
+        const int s = this->SegItems[k];
+        if (this->Stamp[s] != this->CurrentStamp)
+        {
+          this->Stamp[s] = this->CurrentStamp;
+          if (visit(s))
+          {
+            return true;
+          }
+        }
+      }
+    }
+  }
+  return false;
+}
+
+bool BoundaryIndex::nearPoint(Vec2 p, double tolerance)
+{
+  const double t2 = tolerance * tolerance;
+  return this->anySegment(p.x - tolerance,
+    p.y - tolerance,
+    p.x + tolerance,
+    p.y + tolerance,
+    [&](int s) { return pointSegmentDistance2(p, this->A[s], this->B[s]) <= t2; });
+}
+
+bool BoundaryIndex::closerThan(Vec2 p, double distance)
+{
+  const double r2 = distance * distance;
+  return this->anySegment(p.x - distance,
+    p.y - distance,
+    p.x + distance,
+    p.y + distance,
+    [&](int s) { return pointSegmentDistance2(p, this->A[s], this->B[s]) < r2; });
+}
+
+bool BoundaryIndex::nearSegment(Vec2 a, Vec2 b, double tolerance)
+{
+  return this->anySegment(std::min(a.x, b.x) - tolerance,
+    std::min(a.y, b.y) - tolerance,
+    std::max(a.x, b.x) + tolerance,
+    std::max(a.y, b.y) + tolerance,
+    [&](int s) { return segmentsWithin(a, b, this->A[s], this->B[s], tolerance); });
+}
+
+// The refinement loop of refine(): criteria, flags and progress.
+class Grid48Refiner
+{
+public:
+  Grid48Refiner(Grid48& grid,
+    const Model& model,
+    const DistanceField& field,
+    const Grid48Params& params)
+    : G(grid)
+    , Field(field)
+    , P(params)
+  {
+    this->Index.reset(new BoundaryIndex(model, grid.Origin, grid.Side));
+    this->IndexReach = 4.0 * this->Index->cellSize();
+    this->Local = this->P.localMaxLevel > this->P.maxLevel &&
+      (this->P.localRefinement || this->P.thinRegionRefinement);
+  }
+
+  // Whether leaf t meets a criterion; *distance receives the boundary distance of the
+  // hypotenuse midpoint when it was computed.
+  bool wantsSplit(int t, double* distance)
+  {
+    *distance = kNaN;
+    std::uint8_t& flags = this->G.Level[t];
+    const int level = flags & Grid48::kLevelMask;
+    if (level >= this->P.maxLevel && level >= this->P.localMaxLevel)
+    {
+      return false;
+    }
+    const std::array<int, 3>& v = this->G.Vert[t];
+    if (level < this->P.maxLevel && !(flags & kGlobalNo))
+    {
+      const auto l1 = this->G.Lattice[v[1]];
+      const auto l2 = this->G.Lattice[v[2]];
+      const Vec2 q = this->G.Origin +
+        this->G.Scale *
+          Vec2{ 0.5 * (static_cast<double>(l1[0]) + l2[0]),
+            0.5 * (static_cast<double>(l1[1]) + l2[1]) };
+      const double h = this->G.hypotenuseLength(level);
+      const double tol = this->P.tolerance;
+      // Bounds on d(q) from the corners with a known distance: each is h / 2 away from q.
+      double lo = 0.0;
+      double hi = HUGE_VAL;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double dv = this->G.VertexDistance[v[k]];
+        if (!std::isnan(dv))
+        {
+          lo = std::max(lo, dv - 0.5 * h);
+          hi = std::min(hi, dv + 0.5 * h);
+        }
+      }
+      const double slack = 1e-9 * h + 1e-13 * this->G.Side; // rounding of the coordinates
+      double d = kNaN;
+      bool split;
+      if (lo > h + slack)
+      {
+        split = false; // d >= lo > h
+      }
+      else if (hi < h - slack && lo > tol + slack)
+      {
+        split = true;
+      }
+      else if (h <= this->IndexReach)
+      {
+        // The boundary index decides d < h and d > tol exactly from a few cells.
+        if (!this->Index->closerThan(q, h))
+        {
+          split = false;
+          lo = h;
+        }
+        else
+        {
+          split = !this->Index->nearPoint(q, tol);
+        }
+        ++this->G.Stats.indexQueries;
+      }
+      else
+      {
+        d = this->Field.boundaryDistance(q, this->Scratch);
+        ++this->G.Stats.distanceQueries;
+        split = d > tol && h > d;
+        lo = hi = d;
+      }
+      if (split)
+      {
+        *distance = d;
+        return true;
+      }
+      std::uint8_t add = kGlobalNo;
+      if (lo > 0.5 * h + slack)
+      {
+        add |= kEmpty; // the diamond lies in the circumdisk, which no boundary touches
+      }
+      flags |= add;
+      const int partner = this->G.Nbr[t][0];
+      if (partner >= 0 && (this->G.Level[partner] & Grid48::kLevelMask) == level)
+      {
+        this->G.Level[partner] |= add;
+      }
+    }
+    if (level < this->P.localMaxLevel && this->Local && !(flags & kEmpty))
+    {
+      ++this->G.Stats.localTests;
+      const Vec2 a = this->G.vertexPosition(v[0]);
+      const Vec2 b = this->G.vertexPosition(v[1]);
+      const Vec2 c = this->G.vertexPosition(v[2]);
+      const BoundaryIndex::TriangleResult r =
+        this->Index->testTriangle(a, b, c, this->P.localRefinement, this->P.thinRegionRefinement);
+      if (r == BoundaryIndex::CriterionHolds)
+      {
+        return true;
+      }
+      if (r == BoundaryIndex::NothingInside)
+      {
+        flags |= kEmpty;
+      }
+    }
+    return false;
+  }
+
+  // Examines every leaf (and every leaf created meanwhile) and splits those that meet a
+  // criterion.
+  void run(const ProgressReporter& progress)
+  {
+    Grid48& g = this->G;
+    for (std::uint8_t& l : g.Level)
+    {
+      l &= Grid48::kLevelMask; // flags are per call (parameters and model may have changed)
+    }
+    std::vector<int> pending;
+    pending.reserve(1024);
+    for (int n = static_cast<int>(g.Level.size()) - 1; n >= 0; --n)
+    {
+      if (g.Child[n] < 0)
+      {
+        pending.push_back(n);
+      }
+    }
+    std::size_t examined = 0;
+    double reported = 0.0;
+    progress.report(0.0, "refining the 4-8 grid");
+    while (!pending.empty())
+    {
+      const int t = pending.back();
+      pending.pop_back();
+      if (g.Child[t] >= 0)
+      {
+        continue; // split meanwhile (forced); its children are pending
+      }
+      if (++examined % 16384 == 0)
+      {
+        // The stack's size is a rough measure of the work left.
+        const double done = static_cast<double>(examined);
+        reported = std::max(reported, done / (done + 4.0 * pending.size()));
+        progress.report(reported, "refining the 4-8 grid");
+      }
+      double d;
+      if (this->wantsSplit(t, &d))
+      {
+        g.split(t, d, &pending);
+      }
+    }
+    progress.report(1.0, "refining the 4-8 grid");
+  }
+
+private:
+  Grid48& G;
+  const DistanceField& Field;
+  const Grid48Params& P;
+  std::unique_ptr<BoundaryIndex> Index;
+  bool Local = false;
+  double IndexReach = 0.0; // hypotenuses up to this length are decided with the index
+  DistanceField::Scratch Scratch;
+};
+
+Grid48::Grid48(const Box2& bounds, double margin)
+{
+  const Domain d = domainOf(bounds, margin);
+  this->Origin = d.origin;
+  this->Side = d.side;
+  this->Scale = d.side / static_cast<double>(kLatticeSize);
+  this->Params.margin = margin;
+
+  const std::uint32_t n = kLatticeSize;
+  this->Lattice = { { 0, 0 }, { n, 0 }, { n, n }, { 0, n }, { n / 2, n / 2 } };
+  this->VertexLevel.assign(5, 0);
+  this->VertexDistance.assign(5, kNaN);
+  for (int k = 0; k < 4; ++k)
+  {
+    this->Vert.push_back({ 4, k, (k + 1) % 4 });
+    this->Nbr.push_back({ -1, (k + 1) % 4, (k + 3) % 4 });
+    this->Child.push_back(-1);
+    this->Level.push_back(0);
+  }
+  this->Leaves = 4;
+}
+
+double Grid48::hypotenuseLength(int level) const
+{
+  // side / 2^(level / 2): exact powers of two times 1 or sqrt(1/2).
+  const double s = std::ldexp(this->Side, -(level / 2));
+  return (level % 2) ? s * 0.70710678118654752440 : s;
+}
+
+Vec2 Grid48::vertexPosition(int vertex) const
+{
+  const auto& l = this->Lattice[vertex];
+  return this->Origin + this->Scale * Vec2{ static_cast<double>(l[0]), static_cast<double>(l[1]) };
+}
+
+Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& params)
+{
+  return resolveParams(model, params, domainOf(model.bounds, params.margin).side);
+}
+
+Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& params, double side)
+{
+  Grid48Params p = params;
+  if (!(p.margin >= 0.0 && p.margin <= 1.0))
+  {
+    throw ParameterError("Grid48: margin " + std::to_string(p.margin) + " is not in [0, 1]");
+  }
+  if (p.maxLevel < -1 || p.maxLevel > MaxSupportedLevel)
+  {
+    throw ParameterError("Grid48: MaxLevel " + std::to_string(p.maxLevel) +
+      " is not -1 (automatic) or in [0, " + std::to_string(MaxSupportedLevel) + "]");
+  }
+  if (p.maxLevel == -1)
+  {
+    const double m = medianSegmentLength(model);
+    int level = 10;
+    if (m > 0.0)
+    {
+      // hypotenuse(l) = side / 2^(l / 2) = 4 m  <=>  l = 2 log2(side / (4 m))
+      level = static_cast<int>(std::lround(2.0 * std::log2(side / (4.0 * m))));
+    }
+    p.maxLevel = std::clamp(level, 10, 20);
+  }
+  if (p.localMaxLevel == -1)
+  {
+    p.localMaxLevel = std::min(p.maxLevel + 4, MaxSupportedLevel);
+  }
+  else if (p.localMaxLevel < p.maxLevel || p.localMaxLevel > MaxSupportedLevel)
+  {
+    throw ParameterError("Grid48: LocalMaxLevel " + std::to_string(p.localMaxLevel) +
+      " is not -1 (automatic) or in [MaxLevel = " + std::to_string(p.maxLevel) + ", " +
+      std::to_string(MaxSupportedLevel) + "]");
+  }
+  if (!(p.tolerance >= 0.0) || !std::isfinite(p.tolerance))
+  {
+    throw ParameterError("Grid48: Tolerance " + std::to_string(p.tolerance) +
+      " is not a finite value >= 0 (0: automatic)");
+  }
+  if (p.tolerance == 0.0)
+  {
+    const double s = std::ldexp(side, -(p.maxLevel / 2));
+    p.tolerance = 1e-3 * ((p.maxLevel % 2) ? s * 0.70710678118654752440 : s);
+  }
+  return p;
+}
+
+Grid48 Grid48::build(const Model& model,
+  const DistanceField& field,
+  const Grid48Params& params,
+  const ProgressReporter& progress)
+{
+  const Grid48Params resolved = resolveParams(model, params); // validates before any work
+  Grid48 grid(model.bounds, resolved.margin);
+  grid.refine(model, field, resolved, progress);
+  return grid;
+}
+
+void Grid48::refine(const Model& model,
+  const DistanceField& field,
+  const Grid48Params& params,
+  const ProgressReporter& progress)
+{
+  Grid48Params p = params;
+  p.margin = this->Params.margin;
+  p = resolveParams(model, p, this->Side);
+  if (!model.bounds.empty())
+  {
+    const double slack = 1e-9 * this->Side;
+    if (model.bounds.min.x < this->Origin.x - slack ||
+      model.bounds.min.y < this->Origin.y - slack ||
+      model.bounds.max.x > this->Origin.x + this->Side + slack ||
+      model.bounds.max.y > this->Origin.y + this->Side + slack)
+    {
+      throw ParameterError("Grid48::refine: the model's bounds are not inside the grid's domain");
+    }
+  }
+  this->Params = p;
+  Grid48Refiner refiner(*this, model, field, this->Params);
+  refiner.run(progress);
+}
+
+std::size_t Grid48::refineWhere(const std::function<bool(const Grid48&, int node)>& split,
+  int maxLevel,
+  const ProgressReporter& progress)
+{
+  maxLevel = std::min(maxLevel, MaxSupportedLevel);
+  const std::size_t before = this->Stats.splits;
+  std::vector<int> pending;
+  for (int n = static_cast<int>(this->Level.size()) - 1; n >= 0; --n)
+  {
+    if (this->Child[n] < 0)
+    {
+      pending.push_back(n);
+    }
+  }
+  std::size_t examined = 0;
+  while (!pending.empty())
+  {
+    const int t = pending.back();
+    pending.pop_back();
+    if (this->Child[t] >= 0 || this->nodeLevel(t) >= maxLevel)
+    {
+      continue;
+    }
+    if (++examined % 16384 == 0)
+    {
+      progress.report(0.5, "refining the 4-8 grid");
+    }
+    if (split(*this, t))
+    {
+      this->split(t, kNaN, &pending);
+    }
+  }
+  progress.report(1.0, "refining the 4-8 grid");
+  return this->Stats.splits - before;
+}
+
+int Grid48::addVertex(std::array<std::uint32_t, 2> lattice, int level, double distance)
+{
+  this->Lattice.push_back(lattice);
+  this->VertexLevel.push_back(static_cast<std::uint8_t>(level));
+  this->VertexDistance.push_back(distance);
+  return static_cast<int>(this->Lattice.size()) - 1;
+}
+
+void Grid48::replaceNeighbour(int node, int from, int to)
+{
+  if (node < 0)
+  {
+    return;
+  }
+  for (int& n : this->Nbr[node])
+  {
+    if (n == from)
+    {
+      n = to;
+      return;
+    }
+  }
+}
+
+// Children (m, v0, v1) and (m, v2, v0) of node (v0, v1, v2); the neighbours across the two
+// halves of the hypotenuse are left to split().
+void Grid48::bisect(int node, int m)
+{
+  const std::array<int, 3> v = this->Vert[node];
+  const std::array<int, 3> n = this->Nbr[node];
+  const int c = static_cast<int>(this->Level.size());
+  const std::uint8_t level = static_cast<std::uint8_t>((this->Level[node] & kLevelMask) + 1);
+  const std::uint8_t inherited = this->Level[node] & kEmpty;
+  this->Vert.push_back({ m, v[0], v[1] });
+  this->Vert.push_back({ m, v[2], v[0] });
+  this->Nbr.push_back({ n[2], -1, c + 1 });
+  this->Nbr.push_back({ n[1], c, -1 });
+  this->Child.push_back(-1);
+  this->Child.push_back(-1);
+  this->Level.push_back(level | inherited);
+  this->Level.push_back(level | inherited);
+  this->PairParent.push_back(node);
+  this->Child[node] = c;
+  this->replaceNeighbour(n[2], node, c);
+  this->replaceNeighbour(n[1], node, c + 1);
+}
+
+void Grid48::split(int t, double midpointDistance, std::vector<int>* pending, bool forced)
+{
+  const int level = this->nodeLevel(t);
+  int n = this->Nbr[t][0];
+  if (n >= 0 && this->nodeLevel(n) < level)
+  {
+    this->split(n, kNaN, pending, true);
+    n = this->Nbr[t][0]; // now the child of the old neighbour that shares the hypotenuse
+  }
+  const auto l1 = this->Lattice[this->Vert[t][1]];
+  const auto l2 = this->Lattice[this->Vert[t][2]];
+  const int m =
+    this->addVertex({ static_cast<std::uint32_t>((static_cast<std::uint64_t>(l1[0]) + l2[0]) / 2),
+                      static_cast<std::uint32_t>((static_cast<std::uint64_t>(l1[1]) + l2[1]) / 2) },
+      level + 1,
+      midpointDistance);
+  this->bisect(t, m);
+  const int ct = this->Child[t];
+  if (n >= 0)
+  {
+    this->bisect(n, m);
+    const int cn = this->Child[n];
+    // t's child (m, v0, v1) meets n's child (m, v1, w0) along m-v1, and t's (m, v2, v0)
+    // meets n's (m, w0, v2) along m-v2.
+    this->Nbr[ct][1] = cn + 1;
+    this->Nbr[cn + 1][2] = ct;
+    this->Nbr[ct + 1][2] = cn;
+    this->Nbr[cn][1] = ct + 1;
+  }
+  const int count = n >= 0 ? 2 : 1;
+  this->Leaves += count;
+  this->Stats.splits += count;
+  if (forced)
+  {
+    this->Stats.forcedSplits += count;
+  }
+  this->MaxLeafLevel = std::max(this->MaxLeafLevel, level + 1);
+  if (pending)
+  {
+    pending->push_back(ct);
+    pending->push_back(ct + 1);
+    if (n >= 0)
+    {
+      pending->push_back(this->Child[n]);
+      pending->push_back(this->Child[n] + 1);
+    }
+  }
+}
+
+TriangleMesh Grid48::extract(int level) const
+{
+  if (level < -1)
+  {
+    throw ParameterError(
+      "Grid48::extract: level " + std::to_string(level) + " is not -1 (finest) or >= 0");
+  }
+  const int cut = level < 0 ? MaxSupportedLevel + 1 : level;
+  TriangleMesh mesh;
+  std::vector<int> map(this->Lattice.size(), -1);
+  std::vector<int> stack = { 3, 2, 1, 0 };
+  auto point = [&](int v)
+  {
+    int& id = map[v];
+    if (id < 0)
+    {
+      id = static_cast<int>(mesh.points.size());
+      mesh.points.push_back(this->vertexPosition(v));
+      mesh.pointLevel.push_back(this->VertexLevel[v]);
+      mesh.pointVertex.push_back(v);
+      mesh.pointBoundaryDistance.push_back(this->VertexDistance[v]);
+    }
+    return id;
+  };
+  while (!stack.empty())
+  {
+    const int n = stack.back();
+    stack.pop_back();
+    const int l = this->nodeLevel(n);
+    if (this->Child[n] >= 0 && l < cut)
+    {
+      stack.push_back(this->Child[n] + 1);
+      stack.push_back(this->Child[n]);
+      continue;
+    }
+    const std::array<int, 3>& v = this->Vert[n];
+    mesh.triangles.push_back({ point(v[0]), point(v[1]), point(v[2]) });
+    mesh.triangleLevel.push_back(l);
+    mesh.triangleNode.push_back(n);
+  }
+  return mesh;
+}
+
+std::size_t Grid48::memoryBytes() const
+{
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return bytes(this->Vert) + bytes(this->Nbr) + bytes(this->Child) + bytes(this->Level) +
+    bytes(this->PairParent) + bytes(this->Lattice) + bytes(this->VertexLevel) +
+    bytes(this->VertexDistance);
+}
+
+} // namespace strata

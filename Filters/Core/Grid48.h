@@ -1,0 +1,285 @@
+// StrataMesh core: the adaptive 4-8 grid that subdivides the space around a model (paper
+// Sections 2 and 2.1), with its multi-resolution hierarchy. No VTK.
+#ifndef StrataMeshCore_Grid48_h
+#define StrataMeshCore_Grid48_h
+
+#include "DistanceField.h"
+#include "Geometry.h"
+#include "Model.h"
+#include "Progress.h"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace strata
+{
+
+/// A triangle mesh in local model coordinates (the adapters add Model::origin back).
+struct TriangleMesh
+{
+  std::vector<Vec2> points;
+  /// Counter-clockwise. For a mesh extracted from a Grid48 the first vertex is the right-angle
+  /// vertex and triangles[i][1] - triangles[i][2] is the hypotenuse (the refinement edge).
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> triangleLevel; ///< grid level of each triangle (may be empty elsewhere)
+  /// Level at which each point was created: 0 for the five vertices of level 0, l + 1 for the
+  /// midpoint of a level-l hypotenuse, i.e. the first level whose mesh contains the point.
+  std::vector<int> pointLevel;
+  std::vector<int> triangleNode; ///< Grid48 hierarchy node of each triangle (or empty)
+  std::vector<int> pointVertex; ///< Grid48 vertex id of each point, stable across levels (or empty)
+  /// Distance from each point to the nearest model boundary when already known (the grid
+  /// computed it for its refinement criterion), NaN when not known; empty = none known.
+  /// classify() uses the known values instead of querying the distance field again.
+  std::vector<double> pointBoundaryDistance;
+
+  std::size_t numberOfPoints() const { return this->points.size(); }
+  std::size_t numberOfTriangles() const { return this->triangles.size(); }
+};
+
+/// The model's boundary in a uniform grid of square cells: every distinct boundary segment (a
+/// segment shared by two loops counts once) is listed in each cell it crosses, every model
+/// vertex in its cell. Boundary curves are the chains of segments between junctions (nodes
+/// where the number of segments is not two) and curve ends. Queries take the cells under the
+/// query's bounding box and run exact tests on their contents, so their cost does not depend
+/// on the size of the model. Queries use an internal stamp array: one index per thread.
+class BoundaryIndex
+{
+public:
+  /// Index over the square [origin, origin + side]^2 (points outside it are still handled,
+  /// in the border cells). Cells about twice the median segment length (at least 2 sqrt(segments),
+  /// at most 1024 per axis).
+  BoundaryIndex(const Model& model, Vec2 origin, double side);
+  /// Index over the model's bounds (a square around them).
+  explicit BoundaryIndex(const Model& model);
+
+  /// Whether some boundary segment is within `tolerance` (closed) of p.
+  bool nearPoint(Vec2 p, double tolerance);
+  /// Whether some boundary segment is closer than `distance` (open) to p.
+  bool closerThan(Vec2 p, double distance);
+  /// Whether some boundary segment is within `tolerance` of the segment ab (closed; 0 when
+  /// they cross or touch).
+  bool nearSegment(Vec2 a, Vec2 b, double tolerance);
+
+  enum TriangleResult
+  {
+    NothingInside,   ///< no model vertex or segment meets the closed triangle
+    SomethingInside, ///< something does, but no requested criterion holds
+    CriterionHolds   ///< a requested criterion holds
+  };
+  /// Grid48's local criteria for the closed counter-clockwise triangle abc. local: two or more
+  /// model vertices, or segments of two or more curves. thin: one curve in two or more
+  /// separate strands; without `local` also two curves bounding a common region (the
+  /// exterior counts as one), or curves of three or more regions.
+  TriangleResult testTriangle(Vec2 a, Vec2 b, Vec2 c, bool local, bool thin);
+
+  std::size_t numberOfSegments() const { return this->A.size(); }
+  std::size_t numberOfCurves() const { return this->ChainBegin.size() - 1; }
+  double cellSize() const { return this->CellSize; }
+  std::size_t memoryBytes() const;
+
+private:
+  void build(const Model& model, Vec2 origin, double side);
+  // Cell column / row of a coordinate, clamped to the grid (monotone in x / y).
+  int cellX(double x) const { return this->cellOf((x - this->Origin.x) * this->InvCell); }
+  int cellY(double y) const { return this->cellOf((y - this->Origin.y) * this->InvCell); }
+  int cellOf(double f) const
+  {
+    return f <= 0.0 ? 0 : (f >= this->Cells ? this->Cells - 1 : static_cast<int>(f));
+  }
+  template<typename Visit>
+  void forSegmentCells(int s, Visit&& visit) const;
+  template<typename Visit>
+  bool anySegment(double x0, double y0, double x1, double y1, Visit&& visit);
+
+  // Segments oriented along their curve, curves contiguous: segments s and s + 1 of one
+  // curve share the node B[s] == A[s + 1].
+  std::vector<Vec2> A, B;
+  std::vector<int> ChainOf;
+  std::vector<int> ChainBegin;                 // curves + 1 entries
+  std::vector<std::array<int, 2>> ChainLabels; // region ids on both sides (-1 exterior)
+  std::vector<Vec2> Nodes;                     // distinct model vertices
+  Vec2 Origin;
+  double CellSize = 1.0;
+  double InvCell = 1.0;
+  int Cells = 1; // per axis
+  std::vector<int> SegStart, SegItems, NodeStart, NodeItems;
+  std::vector<std::uint32_t> Stamp;
+  std::uint32_t CurrentStamp = 0;
+  std::vector<int> Hits;
+};
+
+/// Parameters of the grid. Automatic values (-1, 0) are resolved by Grid48::resolveParams;
+/// Grid48::params() returns the resolved ones. Out-of-range values throw ParameterError.
+struct Grid48Params
+{
+  /// Global refinement (paper Section 2) stops at this level. Range [0, 60], or -1 for
+  /// automatic: the level whose hypotenuse is closest (in log scale) to four times the median
+  /// length of the model's boundary segments, clamped to [10, 20]. With the default
+  /// localMaxLevel (4 levels finer, hypotenuses 4 times shorter) the finest triangles are then
+  /// about as long as a typical boundary segment, so local refinement can separate the
+  /// polygon vertices. On the models in Data/ this gives 10 (small synthetic ones) to 16
+  /// (gulf_section, guitar) and 1.3e3 to 6.8e4 triangles.
+  int maxLevel = -1;
+  /// Local refinement (Section 2.1 and thin regions) stops at this level. Range
+  /// [maxLevel, 60], or -1 for min(maxLevel + 4, 60). Equal to maxLevel: no local refinement.
+  int localMaxLevel = -1;
+  /// Global criterion: an edge whose midpoint is within this distance (model units) of the
+  /// boundary is not split. Range >= 0 and finite; 0 for automatic: 1e-3 of the hypotenuse
+  /// length at maxLevel (which follows from the model's bounds, the margin and maxLevel).
+  double tolerance = 0.0;
+  /// Section 2.1: split triangles containing two or more polygon vertices or crossed by two
+  /// or more boundary curves (up to localMaxLevel). Curves are the chains of distinct
+  /// boundary segments between junctions (see BoundaryIndex), so that a border given twice in
+  /// the Loops form counts once.
+  bool localRefinement = true;
+  /// Beyond the paper (thin regions, Section 6.6): also split triangles crossed by one curve
+  /// in two or more separate strands (a region or gap bounded on both sides by one curve and
+  /// too thin to fill the triangle), up to localMaxLevel. Two curves that bound one region, or
+  /// curves of three regions, are already split by localRefinement; with localRefinement off,
+  /// this option splits those too.
+  bool thinRegionRefinement = true;
+  /// Margin of the square domain around the model's bounds, as a fraction of the larger side
+  /// of the bounds, added on every side. Range [0, 1].
+  double margin = 0.05;
+};
+
+/// Counters of the work done by the refinement calls so far (summed over calls).
+struct Grid48Statistics
+{
+  std::size_t splits = 0;          ///< triangles bisected (each diamond counts two)
+  std::size_t forcedSplits = 0;    ///< of which split only to keep the mesh conforming
+  std::size_t distanceQueries = 0; ///< DistanceField::boundaryDistance calls
+  std::size_t indexQueries = 0;    ///< global criterion decided with the BoundaryIndex instead
+  std::size_t localTests = 0;      ///< triangles tested against the model's segments/vertices
+};
+
+/// An adaptive 4-8 mesh over a square domain. Level 0 is the square split into four right
+/// isosceles triangles around its centre vertex; a triangle of level l is bisected at the
+/// midpoint of its hypotenuse into two triangles of level l + 1 (newest-vertex bisection).
+/// Vertices live on an integer lattice of 2^31 x 2^31 cells over the square, mapped to model
+/// coordinates by origin + scale * (i, j), so every triangle has angles of exactly 45, 45 and
+/// 90 degrees, and each lattice point is one vertex. Refinement is conforming: a triangle is
+/// always split together with its neighbour across the hypotenuse (the diamond), after that
+/// neighbour, if it is coarser, has been split first; hence no hanging vertices and edge
+/// neighbours differ by at most one level. The whole hierarchy is kept (flat arrays of
+/// nodes: vertices, neighbours, first child, level; the parent of each pair of children), so
+/// that the conforming mesh of any level can be extracted and refinement can resume.
+///
+/// Node ids: 0..3 are the level-0 triangles; the two children of a node are consecutive ids.
+/// Vertex ids: 0..3 the square's corners (counter-clockwise from its lower left), 4 the
+/// centre, then in order of creation.
+class Grid48
+{
+public:
+  /// The finest level supported (the lattice has 31 bits per axis).
+  static constexpr int MaxSupportedLevel = 60;
+
+  /// Level 0 over a square covering `bounds` with `margin` (fraction of the larger side, on
+  /// every side; range [0, 1]). An empty box gives the unit square around the origin; a box
+  /// of zero size a square of side 1 around it. Throws ParameterError for a bad margin or
+  /// non-finite bounds.
+  explicit Grid48(const Box2& bounds, double margin = 0.05);
+
+  /// Builds the grid of `model` (local coordinates) with the global and local criteria.
+  /// `field` must be the distance field of `model`. Throws ParameterError for parameters out
+  /// of range, Aborted when the progress callback asks to stop.
+  static Grid48 build(const Model& model,
+    const DistanceField& field,
+    const Grid48Params& params = {},
+    const ProgressReporter& progress = ProgressReporter());
+
+  /// The parameters with the automatic values (-1 / 0) replaced by the rules documented in
+  /// Grid48Params, for the domain this model would get. Throws ParameterError when out of range.
+  static Grid48Params resolveParams(const Model& model, const Grid48Params& params);
+
+  /// Resumes refinement with (possibly new) parameters: splits leaves until no leaf meets a
+  /// criterion. Refinement only adds splits: when every parameter is at least as fine as
+  /// before (levels not lower, tolerance not larger, options not turned off), the result is
+  /// identical to build() with the new parameters; otherwise it is the coarsest conforming
+  /// refinement of the current mesh that meets the new criteria. The grid's domain is kept
+  /// (params.margin is ignored); the model's bounds must lie inside it (ParameterError).
+  /// After Aborted the grid is valid and conforming, just not fully refined.
+  void refine(const Model& model,
+    const DistanceField& field,
+    const Grid48Params& params,
+    const ProgressReporter& progress = ProgressReporter());
+
+  /// Generic conforming refinement: splits every leaf of level < maxLevel for which
+  /// split(*this, node) is true, the leaves this creates included, until none is left.
+  /// Returns the number of triangles split. maxLevel is clamped to MaxSupportedLevel.
+  std::size_t refineWhere(const std::function<bool(const Grid48&, int node)>& split,
+    int maxLevel,
+    const ProgressReporter& progress = ProgressReporter());
+
+  /// The conforming mesh of level `level`: every node of that level and every leaf coarser
+  /// than it; level -1 (or >= maxLeafLevel()) gives all leaves (the finest mesh). The meshes
+  /// of levels 0..maxLeafLevel() are nested. Points are numbered in order of first use.
+  TriangleMesh extract(int level = -1) const;
+
+  // Domain.
+  Vec2 origin() const { return this->Origin; } ///< lower left corner of the square (local)
+  double side() const { return this->Side; }   ///< side length of the square
+  /// Hypotenuse length of the triangles of a level: side / 2^(level / 2).
+  double hypotenuseLength(int level) const;
+
+  // Hierarchy.
+  std::size_t numberOfNodes() const { return this->Level.size(); }
+  std::size_t numberOfLeaves() const { return this->Leaves; }
+  std::size_t numberOfVertices() const { return this->Lattice.size(); }
+  int maxLeafLevel() const { return this->MaxLeafLevel; }
+  int nodeLevel(int node) const { return this->Level[node] & kLevelMask; }
+  bool isLeaf(int node) const { return this->Child[node] < 0; }
+  int nodeFirstChild(int node) const { return this->Child[node]; } ///< -1 for a leaf
+  int nodeParent(int node) const { return node < 4 ? -1 : this->PairParent[(node - 4) / 2]; }
+  /// Vertex ids, counter-clockwise, the right-angle vertex first (then the hypotenuse).
+  const std::array<int, 3>& nodeVertices(int node) const { return this->Vert[node]; }
+  /// Neighbour across the hypotenuse, across (v2, v0) and across (v0, v1); -1 on the domain
+  /// border. Maintained for leaves; for inner nodes it is the state when they were split.
+  const std::array<int, 3>& nodeNeighbours(int node) const { return this->Nbr[node]; }
+  Vec2 vertexPosition(int vertex) const;
+  std::array<std::uint32_t, 2> vertexLattice(int vertex) const { return this->Lattice[vertex]; }
+  int vertexLevel(int vertex) const { return this->VertexLevel[vertex]; }
+
+  /// Resolved parameters of the last refine()/build() (defaults before any).
+  const Grid48Params& params() const { return this->Params; }
+  const Grid48Statistics& statistics() const { return this->Stats; }
+  /// Heap bytes held by the grid: the capacity of all its arrays.
+  std::size_t memoryBytes() const;
+
+private:
+  static constexpr std::uint8_t kLevelMask = 0x3f;
+
+  static Grid48Params resolveParams(const Model& model, const Grid48Params& params, double side);
+  int addVertex(std::array<std::uint32_t, 2> lattice, int level, double distance);
+  void split(int node, double midpointDistance, std::vector<int>* pending, bool forced = false);
+  void bisect(int node, int midpoint);
+  void replaceNeighbour(int node, int from, int to);
+  friend class Grid48Refiner;
+
+  Vec2 Origin;
+  double Side = 1.0;
+  double Scale = 1.0; // Side / 2^31
+  Grid48Params Params;
+  Grid48Statistics Stats;
+  std::size_t Leaves = 0;
+  int MaxLeafLevel = 0;
+
+  // Nodes (struct of arrays).
+  std::vector<std::array<int, 3>> Vert;
+  std::vector<std::array<int, 3>> Nbr;
+  std::vector<int> Child;
+  std::vector<std::uint8_t> Level; // level in the low 6 bits, refinement flags above
+  std::vector<int> PairParent;     // parent of nodes 4 + 2k and 5 + 2k
+
+  // Vertices.
+  std::vector<std::array<std::uint32_t, 2>> Lattice;
+  std::vector<std::uint8_t> VertexLevel;
+  std::vector<double> VertexDistance; // boundary distance when computed, else NaN
+};
+
+} // namespace strata
+
+#endif

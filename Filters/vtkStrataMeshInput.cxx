@@ -1,0 +1,152 @@
+#include "vtkStrataMeshInput.h"
+
+#include "Errors.h"
+
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+
+#include <cmath>
+
+namespace
+{
+
+vtkDataArray* FindLabels(vtkPolyData* input, const std::string& name)
+{
+  return name.empty() ? nullptr : input->GetCellData()->GetArray(name.c_str());
+}
+
+std::vector<int> ToLabels(vtkDataArray* array, vtkIdType numberOfCells)
+{
+  if (array->GetNumberOfComponents() != 1)
+  {
+    throw strata::InputError(std::string("region array '") + array->GetName() + "' has " +
+      std::to_string(array->GetNumberOfComponents()) + " components; it needs 1");
+  }
+  if (array->GetNumberOfTuples() != numberOfCells)
+  {
+    throw strata::InputError(std::string("region array '") + array->GetName() + "' has " +
+      std::to_string(array->GetNumberOfTuples()) + " values for " +
+      std::to_string(numberOfCells) + " cells");
+  }
+  std::vector<int> labels(static_cast<std::size_t>(numberOfCells));
+  for (vtkIdType c = 0; c < numberOfCells; ++c)
+  {
+    const double v = array->GetComponent(c, 0);
+    if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 1e9)
+    {
+      throw strata::InputError(std::string("region array '") + array->GetName() + "' value " +
+        std::to_string(v) + " of cell " + std::to_string(c) + " is not an integer region id");
+    }
+    labels[static_cast<std::size_t>(c)] = static_cast<int>(v);
+  }
+  return labels;
+}
+
+void AppendCells(vtkCellArray* cells, strata::CellKind kind, strata::RawPolylines& raw)
+{
+  if (!cells)
+  {
+    return;
+  }
+  const vtkIdType n = cells->GetNumberOfCells();
+  vtkIdType npts = 0;
+  const vtkIdType* pts = nullptr;
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    cells->GetCellAtId(c, npts, pts);
+    raw.connectivity.insert(raw.connectivity.end(), pts, pts + npts);
+    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
+    raw.kinds.push_back(kind);
+  }
+}
+
+} // namespace
+
+vtkStrataMeshInput::Selection vtkStrataMeshInput::MakeSelection(
+  int form, const char* regionArray, const char* leftRegionArray, const char* rightRegionArray)
+{
+  Selection selection;
+  selection.Form = form;
+  if (regionArray && *regionArray)
+  {
+    selection.RegionArray = regionArray;
+  }
+  if (leftRegionArray && *leftRegionArray)
+  {
+    selection.LeftRegionArray = leftRegionArray;
+  }
+  if (rightRegionArray && *rightRegionArray)
+  {
+    selection.RightRegionArray = rightRegionArray;
+  }
+  return selection;
+}
+
+strata::RawPolylines vtkStrataMeshInput::ToRaw(vtkPolyData* input, const Selection& selection)
+{
+  strata::RawPolylines raw;
+  raw.offsets.push_back(0);
+  if (!input)
+  {
+    return raw;
+  }
+  const vtkIdType numberOfPoints = input->GetNumberOfPoints();
+  raw.points.resize(static_cast<std::size_t>(numberOfPoints));
+  for (vtkIdType i = 0; i < numberOfPoints; ++i)
+  {
+    double p[3];
+    input->GetPoint(i, p);
+    raw.points[static_cast<std::size_t>(i)] = { p[0], p[1] };
+  }
+  // vtkPolyData orders its cells verts, lines, polys, strips: keep that numbering so that the
+  // cell ids in messages are the ones ParaView's spreadsheet shows.
+  AppendCells(input->GetVerts(), strata::CellKind::Other, raw);
+  AppendCells(input->GetLines(), strata::CellKind::Line, raw);
+  AppendCells(input->GetPolys(), strata::CellKind::Polygon, raw);
+  AppendCells(input->GetStrips(), strata::CellKind::Other, raw);
+
+  const vtkIdType numberOfCells = input->GetNumberOfCells();
+  vtkDataArray* region = FindLabels(input, selection.RegionArray);
+  vtkDataArray* left = FindLabels(input, selection.LeftRegionArray);
+  vtkDataArray* right = FindLabels(input, selection.RightRegionArray);
+  const bool shared = left && right && left != right;
+  switch (selection.Form)
+  {
+    case FORM_LOOPS:
+      raw.form = strata::ModelForm::Loops;
+      if (!region && numberOfCells > 0)
+      {
+        throw strata::InputError("Loops form: no cell array named '" + selection.RegionArray + "'");
+      }
+      break;
+    case FORM_SHARED_CURVES:
+      raw.form = strata::ModelForm::SharedCurves;
+      if (!shared && numberOfCells > 0)
+      {
+        throw strata::InputError("Shared curves form: needs two cell arrays '" +
+          selection.LeftRegionArray + "' and '" + selection.RightRegionArray + "'");
+      }
+      break;
+    default:
+      raw.form = strata::ModelForm::Auto;
+      break;
+  }
+  if (shared && raw.form != strata::ModelForm::Loops)
+  {
+    raw.leftRegion = ToLabels(left, numberOfCells);
+    raw.rightRegion = ToLabels(right, numberOfCells);
+  }
+  else if (region && raw.form != strata::ModelForm::SharedCurves)
+  {
+    raw.regionId = ToLabels(region, numberOfCells);
+  }
+  return raw;
+}
+
+strata::Model vtkStrataMeshInput::BuildModel(vtkPolyData* input, const Selection& selection)
+{
+  return strata::buildModel(ToRaw(input, selection));
+}

@@ -1,0 +1,859 @@
+// Tests of the adaptive 4-8 grid: invariants of the mesh (conforming, tiling, exact angles,
+// levels of neighbours), the multi-resolution hierarchy (nested conforming levels), the
+// refinement criteria against independent brute-force checks, resuming, parameters.
+#include "Grid48.h"
+
+#include "DistanceField.h"
+#include "Errors.h"
+#include "VtpAscii.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+namespace
+{
+
+using strata::Box2;
+using strata::Grid48;
+using strata::Grid48Params;
+using strata::TriangleMesh;
+using strata::Vec2;
+
+struct Loaded
+{
+  strata::Model model;
+  std::unique_ptr<strata::DistanceField> field;
+};
+
+const Loaded& load(const std::string& name)
+{
+  static std::map<std::string, std::unique_ptr<Loaded>> cache;
+  std::unique_ptr<Loaded>& entry = cache[name];
+  if (!entry)
+  {
+    entry = std::make_unique<Loaded>();
+    entry->model = strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath(name)));
+    entry->field = std::make_unique<strata::DistanceField>(entry->model);
+  }
+  return *entry;
+}
+
+// Every model in Data/ but the 5872-point Lake Superior (only the defaults test uses it).
+const std::vector<std::string>& allModels()
+{
+  static const std::vector<std::string> models = { "countries_westeurope.vtp",
+    "countries_westeurope_loops.vtp",
+    "geology_marmousi.vtp",
+    "guitar.vtp",
+    "gulf_section.vtp",
+    "gulf_section_loops.vtp",
+    "lake_superior.vtp",
+    "nested_holes.vtp",
+    "pinch_out.vtp",
+    "salt_dome.vtp",
+    "salt_dome_loops.vtp",
+    "thin_layer.vtp",
+    "touching_loops.vtp" };
+  return models;
+}
+
+// Small explicit levels keep the brute-force checks fast: maxLevel 12, localMaxLevel 15.
+Grid48Params smallParams()
+{
+  Grid48Params p;
+  p.maxLevel = 12;
+  p.localMaxLevel = 15;
+  return p;
+}
+
+using Lattice = std::array<std::int64_t, 2>;
+
+Lattice lattice(const Grid48& grid, const TriangleMesh& mesh, int point)
+{
+  const auto l = grid.vertexLattice(mesh.pointVertex[point]);
+  return { static_cast<std::int64_t>(l[0]), static_cast<std::int64_t>(l[1]) };
+}
+
+double area(const TriangleMesh& mesh, int t)
+{
+  const auto& tri = mesh.triangles[t];
+  return 0.5 * strata::orient2d(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
+}
+
+std::uint64_t edgeKey(int a, int b)
+{
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) |
+    static_cast<std::uint32_t>(std::max(a, b));
+}
+
+// Conforming, tiling, exact angles, neighbour levels; every failure names the triangle.
+void expectValidMesh(const Grid48& grid, const TriangleMesh& mesh, const std::string& what)
+{
+  SCOPED_TRACE(what);
+  const std::size_t nt = mesh.triangles.size();
+  ASSERT_EQ(mesh.triangleLevel.size(), nt);
+  ASSERT_EQ(mesh.triangleNode.size(), nt);
+  ASSERT_EQ(mesh.pointVertex.size(), mesh.points.size());
+  ASSERT_EQ(mesh.pointLevel.size(), mesh.points.size());
+  const std::int64_t n = std::int64_t(1) << 31;
+
+  // Exact right isosceles triangles, counter-clockwise, right angle first; and in doubles.
+  double total = 0.0;
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    const auto& tri = mesh.triangles[t];
+    const Lattice a = lattice(grid, mesh, tri[0]);
+    const Lattice b = lattice(grid, mesh, tri[1]);
+    const Lattice c = lattice(grid, mesh, tri[2]);
+    const std::int64_t e1x = b[0] - a[0], e1y = b[1] - a[1];
+    const std::int64_t e2x = c[0] - a[0], e2y = c[1] - a[1];
+    ASSERT_EQ(e1x * e2x + e1y * e2y, 0) << "triangle " << t << " has no exact right angle";
+    ASSERT_EQ(e1x * e1x + e1y * e1y, e2x * e2x + e2y * e2y) << "triangle " << t;
+    ASSERT_GT(static_cast<__int128>(e1x) * e2y - static_cast<__int128>(e1y) * e2x, 0)
+      << "triangle " << t << " is not counter-clockwise";
+    // The legs of level l are side / 2^((l + 1) / 2) long (half-diagonals at even levels).
+    const int level = mesh.triangleLevel[t];
+    const double leg = grid.hypotenuseLength(level) / std::sqrt(2.0);
+    const Vec2 pa = mesh.points[tri[0]], pb = mesh.points[tri[1]], pc = mesh.points[tri[2]];
+    const double l1 = strata::norm(pb - pa), l2 = strata::norm(pc - pa);
+    EXPECT_NEAR(l1 / leg, 1.0, 1e-12) << "triangle " << t << " level " << level;
+    EXPECT_NEAR(l2 / leg, 1.0, 1e-12) << "triangle " << t;
+    EXPECT_NEAR(strata::dot(pb - pa, pc - pa) / (l1 * l2), 0.0, 1e-12) << "angle at the apex";
+    const double cos45 = strata::dot(pa - pb, pc - pb) / (l1 * strata::norm(pc - pb));
+    EXPECT_NEAR(cos45, std::sqrt(0.5), 1e-12) << "triangle " << t;
+    total += area(mesh, static_cast<int>(t));
+  }
+  EXPECT_NEAR(total / (grid.side() * grid.side()), 1.0, 1e-12) << "the triangles do not tile";
+
+  // Each edge in two triangles, or in one on the square's border; levels differ by <= 1.
+  std::unordered_map<std::uint64_t, std::pair<int, int>> edges; // key -> (count, a level)
+  edges.reserve(2 * nt);
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      auto& e = edges[edgeKey(tri[k], tri[(k + 1) % 3])];
+      if (e.first == 1)
+      {
+        EXPECT_LE(std::abs(e.second - mesh.triangleLevel[t]), 1)
+          << "neighbours of levels " << e.second << " and " << mesh.triangleLevel[t];
+      }
+      ++e.first;
+      e.second = mesh.triangleLevel[t];
+    }
+  }
+  for (const auto& [key, e] : edges)
+  {
+    const Lattice a = lattice(grid, mesh, static_cast<int>(key >> 32));
+    const Lattice b = lattice(grid, mesh, static_cast<int>(key & 0xffffffffu));
+    const bool border =
+      (a[0] == b[0] && (a[0] == 0 || a[0] == n)) || (a[1] == b[1] && (a[1] == 0 || a[1] == n));
+    ASSERT_EQ(e.first, border ? 1 : 2) << "edge (" << a[0] << "," << a[1] << ")-(" << b[0] << ","
+                                       << b[1] << ") is in " << e.first << " triangles";
+  }
+
+  // No vertex inside an edge (hanging vertex): buckets of points, exact lattice tests.
+  const int buckets = 256;
+  std::unordered_map<std::int64_t, std::vector<int>> bucket;
+  auto bucketOf = [&](std::int64_t x)
+  { return std::min<std::int64_t>(buckets - 1, x * buckets / n); };
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    const Lattice p = lattice(grid, mesh, static_cast<int>(i));
+    bucket[bucketOf(p[0]) * buckets + bucketOf(p[1])].push_back(static_cast<int>(i));
+  }
+  for (const auto& [key, e] : edges)
+  {
+    const Lattice a = lattice(grid, mesh, static_cast<int>(key >> 32));
+    const Lattice b = lattice(grid, mesh, static_cast<int>(key & 0xffffffffu));
+    for (std::int64_t bx = bucketOf(std::min(a[0], b[0])); bx <= bucketOf(std::max(a[0], b[0]));
+         ++bx)
+    {
+      for (std::int64_t by = bucketOf(std::min(a[1], b[1])); by <= bucketOf(std::max(a[1], b[1]));
+           ++by)
+      {
+        const auto it = bucket.find(bx * buckets + by);
+        if (it == bucket.end())
+        {
+          continue;
+        }
+        for (const int q : it->second)
+        {
+          const Lattice p = lattice(grid, mesh, q);
+          if (p == a || p == b)
+          {
+            continue;
+          }
+          const __int128 cr = static_cast<__int128>(b[0] - a[0]) * (p[1] - a[1]) -
+            static_cast<__int128>(b[1] - a[1]) * (p[0] - a[0]);
+          const __int128 dt = static_cast<__int128>(p[0] - a[0]) * (b[0] - a[0]) +
+            static_cast<__int128>(p[1] - a[1]) * (b[1] - a[1]);
+          const __int128 len2 = static_cast<__int128>(b[0] - a[0]) * (b[0] - a[0]) +
+            static_cast<__int128>(b[1] - a[1]) * (b[1] - a[1]);
+          ASSERT_FALSE(cr == 0 && dt > 0 && dt < len2)
+            << "point (" << p[0] << "," << p[1] << ") hangs on an edge";
+        }
+      }
+    }
+  }
+
+  // One vertex per lattice point.
+  std::set<Lattice> distinct;
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    distinct.insert(lattice(grid, mesh, static_cast<int>(i)));
+  }
+  EXPECT_EQ(distinct.size(), mesh.points.size()) << "two vertices share a lattice point";
+}
+
+// The grid's own neighbour links between leaves are symmetric and match shared edges.
+void expectConsistentNeighbours(const Grid48& grid)
+{
+  for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+  {
+    if (!grid.isLeaf(t))
+    {
+      continue;
+    }
+    const auto& v = grid.nodeVertices(t);
+    const auto& nb = grid.nodeNeighbours(t);
+    // Edge k is opposite... (v1, v2), (v2, v0), (v0, v1).
+    const int ends[3][2] = { { v[1], v[2] }, { v[2], v[0] }, { v[0], v[1] } };
+    for (int k = 0; k < 3; ++k)
+    {
+      if (nb[k] < 0)
+      {
+        continue;
+      }
+      ASSERT_TRUE(grid.isLeaf(nb[k])) << "leaf " << t << " links to inner node " << nb[k];
+      const auto& w = grid.nodeVertices(nb[k]);
+      const std::set<int> mine = { ends[k][0], ends[k][1] };
+      int shared = 0;
+      for (int j = 0; j < 3; ++j)
+      {
+        shared += mine.count(w[j]) ? 1 : 0;
+      }
+      ASSERT_EQ(shared, 2) << "leaf " << t << " and its neighbour " << nb[k] << " share no edge";
+      const auto& back = grid.nodeNeighbours(nb[k]);
+      ASSERT_TRUE(back[0] == t || back[1] == t || back[2] == t) << "link is not symmetric";
+    }
+  }
+}
+
+// Every extracted level is valid and nested: each coarse triangle is exactly the union of the
+// finest triangles below it (by the hierarchy and by area).
+void expectNestedLevels(const Grid48& grid, const TriangleMesh& finest, const std::string& what)
+{
+  for (int level = 0; level <= grid.maxLeafLevel(); ++level)
+  {
+    const TriangleMesh coarse = grid.extract(level);
+    expectValidMesh(grid, coarse, what + ", level " + std::to_string(level));
+    if (::testing::Test::HasFatalFailure())
+    {
+      return;
+    }
+    std::unordered_map<int, double> coarseArea;
+    for (std::size_t t = 0; t < coarse.triangles.size(); ++t)
+    {
+      const int node = coarse.triangleNode[t];
+      EXPECT_TRUE(
+        coarse.triangleLevel[t] == level || (grid.isLeaf(node) && coarse.triangleLevel[t] < level));
+      coarseArea[node] = area(coarse, static_cast<int>(t));
+    }
+    std::unordered_map<int, double> covered;
+    for (std::size_t t = 0; t < finest.triangles.size(); ++t)
+    {
+      int node = finest.triangleNode[t];
+      while (grid.nodeLevel(node) > level)
+      {
+        node = grid.nodeParent(node);
+      }
+      ASSERT_TRUE(coarseArea.count(node))
+        << "finest triangle " << t << " has no ancestor at level " << level;
+      covered[node] += area(finest, static_cast<int>(t));
+    }
+    ASSERT_EQ(covered.size(), coarseArea.size());
+    for (const auto& [node, a] : coarseArea)
+    {
+      EXPECT_NEAR(covered[node] / a, 1.0, 1e-12) << "node " << node << " at level " << level;
+    }
+  }
+}
+
+// Polyline vertices in the closed triangle abc.
+int verticesIn(const std::vector<Vec2>& sortedByX, Vec2 a, Vec2 b, Vec2 c)
+{
+  const double x0 = std::min({ a.x, b.x, c.x }), x1 = std::max({ a.x, b.x, c.x });
+  auto it = std::lower_bound(
+    sortedByX.begin(), sortedByX.end(), x0, [](const Vec2& p, double x) { return p.x < x; });
+  int count = 0;
+  for (; it != sortedByX.end() && it->x <= x1; ++it)
+  {
+    const Vec2 p = *it;
+    if (strata::orient2d(a, b, p) >= 0 && strata::orient2d(b, c, p) >= 0 &&
+      strata::orient2d(c, a, p) >= 0)
+    {
+      ++count;
+    }
+  }
+  return count;
+}
+
+TEST(Grid48Test, level0_is_four_right_triangles_around_the_centre)
+{
+  const Grid48 grid(Box2{ { 0, 0 }, { 10, 4 } });
+  EXPECT_EQ(grid.numberOfLeaves(), 4u);
+  EXPECT_EQ(grid.numberOfVertices(), 5u);
+  EXPECT_DOUBLE_EQ(grid.side(), 11.0); // larger side 10 plus 5 % on each side
+  EXPECT_DOUBLE_EQ(grid.origin().x, -0.5);
+  EXPECT_DOUBLE_EQ(grid.origin().y, 2.0 - 5.5);
+  const TriangleMesh mesh = grid.extract();
+  ASSERT_EQ(mesh.triangles.size(), 4u);
+  for (const auto& tri : mesh.triangles)
+  {
+    EXPECT_EQ(mesh.points[tri[0]], (Vec2{ 5.0, 2.0 })); // the centre is every right angle
+  }
+  expectValidMesh(grid, mesh, "level 0");
+}
+
+TEST(Grid48Test, refinement_with_any_criterion_is_conforming_and_nested)
+{
+  // Hand-made criteria: refine towards a point, along a circle, and at random.
+  Grid48 grid(Box2{ { -1, -1 }, { 1, 1 } }, 0.0);
+  auto nearPoint = [](const Grid48& g, int node)
+  {
+    const auto& v = g.nodeVertices(node);
+    const Vec2 a = g.vertexPosition(v[0]), b = g.vertexPosition(v[1]), c = g.vertexPosition(v[2]);
+    const Vec2 p{ 0.3, -0.2 };
+    return strata::orient2d(a, b, p) >= 0 && strata::orient2d(b, c, p) >= 0 &&
+      strata::orient2d(c, a, p) >= 0;
+  };
+  grid.refineWhere(nearPoint, 24);
+  EXPECT_EQ(grid.maxLeafLevel(), 24);
+  TriangleMesh mesh = grid.extract();
+  expectValidMesh(grid, mesh, "point");
+  expectConsistentNeighbours(grid);
+  expectNestedLevels(grid, mesh, "point");
+
+  auto circle = [](const Grid48& g, int node)
+  {
+    const auto& v = g.nodeVertices(node);
+    int inside = 0;
+    for (int k = 0; k < 3; ++k)
+    {
+      inside += strata::norm(g.vertexPosition(v[k])) < 0.7 ? 1 : 0;
+    }
+    return inside != 0 && inside != 3;
+  };
+  grid.refineWhere(circle, 14);
+  std::uint32_t state = 12345;
+  auto random = [&state](const Grid48&, int)
+  {
+    state = state * 1664525u + 1013904223u;
+    return (state >> 28) == 0; // one in 16
+  };
+  grid.refineWhere(random, 18);
+  mesh = grid.extract();
+  expectValidMesh(grid, mesh, "circle and random");
+  expectConsistentNeighbours(grid);
+  expectNestedLevels(grid, mesh, "circle and random");
+  EXPECT_EQ(grid.numberOfLeaves(), mesh.triangles.size());
+}
+
+TEST(Grid48Test, refinement_is_conforming_on_every_model)
+{
+  for (const std::string& name : allModels())
+  {
+    const Loaded& m = load(name);
+    const Grid48 grid = Grid48::build(m.model, *m.field, smallParams());
+    const TriangleMesh mesh = grid.extract();
+    expectValidMesh(grid, mesh, name);
+    expectConsistentNeighbours(grid);
+    ASSERT_FALSE(HasFatalFailure()) << name;
+  }
+}
+
+TEST(Grid48Test, default_parameters_give_a_valid_grid_on_every_model)
+{
+  std::vector<std::string> models = allModels();
+  models.push_back("lake_superior_full.vtp");
+  for (const std::string& name : models)
+  {
+    const Loaded& m = load(name);
+    const Grid48 grid = Grid48::build(m.model, *m.field);
+    const Grid48Params& p = grid.params();
+    EXPECT_GE(p.maxLevel, 10) << name;
+    EXPECT_LE(p.maxLevel, 20) << name;
+    EXPECT_EQ(p.localMaxLevel, p.maxLevel + 4) << name;
+    EXPECT_DOUBLE_EQ(p.tolerance, 1e-3 * grid.hypotenuseLength(p.maxLevel)) << name;
+    EXPECT_LE(grid.maxLeafLevel(), p.localMaxLevel) << name;
+    EXPECT_GT(grid.numberOfLeaves(), 1000u) << name;
+    EXPECT_LT(grid.numberOfLeaves(), 200000u) << name;
+    const TriangleMesh mesh = grid.extract();
+    expectValidMesh(grid, mesh, name);
+    ASSERT_FALSE(HasFatalFailure()) << name;
+  }
+}
+
+TEST(Grid48Test, extracted_levels_are_conforming_and_nested)
+{
+  for (const std::string name : { "salt_dome.vtp", "pinch_out.vtp", "countries_westeurope.vtp" })
+  {
+    const Loaded& m = load(name);
+    Grid48Params p;
+    p.maxLevel = 10;
+    p.localMaxLevel = 14;
+    const Grid48 grid = Grid48::build(m.model, *m.field, p);
+    expectNestedLevels(grid, grid.extract(), name);
+    ASSERT_FALSE(HasFatalFailure()) << name;
+    EXPECT_EQ(grid.extract(grid.maxLeafLevel()).triangles.size(), grid.numberOfLeaves());
+    EXPECT_EQ(grid.extract(-1).triangles.size(), grid.numberOfLeaves());
+    EXPECT_EQ(grid.extract(0).triangles.size(), 4u);
+  }
+}
+
+TEST(Grid48Test, global_criterion_leaves_no_splittable_leaf_below_max_level)
+{
+  for (const std::string& name : allModels())
+  {
+    const Loaded& m = load(name);
+    Grid48Params p = smallParams();
+    p.localRefinement = false;
+    p.thinRegionRefinement = false;
+    for (const double tolerance : { 0.0, 0.02 })
+    {
+      p.tolerance = tolerance * m.model.size();
+      const Grid48 grid = Grid48::build(m.model, *m.field, p);
+      const double tol = grid.params().tolerance;
+      strata::DistanceField::Scratch scratch;
+      int checked = 0;
+      for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+      {
+        const int level = grid.nodeLevel(t);
+        const double h = grid.hypotenuseLength(level);
+        const auto& v = grid.nodeVertices(t);
+        const Vec2 q = 0.5 * (grid.vertexPosition(v[1]) + grid.vertexPosition(v[2]));
+        const double d = m.field->boundaryDistance(q, scratch);
+        const bool wants = level < p.maxLevel && d > tol && h > d;
+        if (grid.isLeaf(t))
+        {
+          ASSERT_FALSE(wants) << name << ": leaf " << t << " of level " << level << " h " << h
+                              << " d " << d;
+          ++checked;
+        }
+      }
+      EXPECT_EQ(checked, static_cast<int>(grid.numberOfLeaves()));
+      // Without local refinement nothing is finer than maxLevel.
+      EXPECT_LE(grid.maxLeafLevel(), p.maxLevel) << name;
+    }
+  }
+}
+
+TEST(Grid48Test, local_criterion_leaves_no_two_polygon_vertices_in_a_triangle)
+{
+  for (const std::string& name : allModels())
+  {
+    const Loaded& m = load(name);
+    const Grid48Params p = smallParams();
+    const Grid48 grid = Grid48::build(m.model, *m.field, p);
+    std::vector<Vec2> nodes = m.model.nodes;
+    std::sort(nodes.begin(), nodes.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x; });
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t) || grid.nodeLevel(t) >= p.localMaxLevel)
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      const int count = verticesIn(
+        nodes, grid.vertexPosition(v[0]), grid.vertexPosition(v[1]), grid.vertexPosition(v[2]));
+      ASSERT_LE(count, 1) << name << ": leaf " << t << " of level " << grid.nodeLevel(t);
+    }
+  }
+}
+
+// Boundary curves as the test sees them: distinct segments chained through nodes of degree 2.
+struct TestCurves
+{
+  std::vector<Vec2> a, b;
+  std::vector<int> curve;
+};
+
+TestCurves curvesOf(const strata::Model& model)
+{
+  std::map<std::pair<int, int>, int> segments;
+  std::vector<std::pair<int, int>> ends;
+  for (const strata::Curve& c : model.curves)
+  {
+    const std::size_t n = c.nodes.size();
+    for (std::size_t i = 0; i + (c.closed ? 0 : 1) < n; ++i)
+    {
+      const int u = c.nodes[i], w = c.nodes[(i + 1) % n];
+      if (u != w && segments.emplace(std::minmax(u, w), static_cast<int>(ends.size())).second)
+      {
+        ends.push_back({ u, w });
+      }
+    }
+  }
+  std::vector<int> degree(model.nodes.size(), 0);
+  for (const auto& e : ends)
+  {
+    ++degree[e.first];
+    ++degree[e.second];
+  }
+  // Union the two segments at every node of degree 2.
+  std::vector<int> parent(ends.size());
+  for (std::size_t i = 0; i < parent.size(); ++i)
+  {
+    parent[i] = static_cast<int>(i);
+  }
+  auto find = [&](int i)
+  {
+    while (parent[i] != i)
+    {
+      i = parent[i] = parent[parent[i]];
+    }
+    return i;
+  };
+  std::vector<int> firstAt(model.nodes.size(), -1);
+  for (std::size_t s = 0; s < ends.size(); ++s)
+  {
+    for (const int node : { ends[s].first, ends[s].second })
+    {
+      if (degree[node] != 2)
+      {
+        continue;
+      }
+      if (firstAt[node] < 0)
+      {
+        firstAt[node] = static_cast<int>(s);
+      }
+      else
+      {
+        parent[find(static_cast<int>(s))] = find(firstAt[node]);
+      }
+    }
+  }
+  TestCurves out;
+  for (std::size_t s = 0; s < ends.size(); ++s)
+  {
+    out.a.push_back(model.nodes[ends[s].first]);
+    out.b.push_back(model.nodes[ends[s].second]);
+    out.curve.push_back(find(static_cast<int>(s)));
+  }
+  return out;
+}
+
+bool segmentMeetsTriangle(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2 c)
+{
+  auto inside = [&](Vec2 x)
+  {
+    return strata::orient2d(a, b, x) >= 0 && strata::orient2d(b, c, x) >= 0 &&
+      strata::orient2d(c, a, x) >= 0;
+  };
+  if (inside(p) || inside(q))
+  {
+    return true;
+  }
+  auto crosses = [](Vec2 p1, Vec2 p2, Vec2 q1, Vec2 q2)
+  {
+    if (std::max(p1.x, p2.x) < std::min(q1.x, q2.x) ||
+      std::max(q1.x, q2.x) < std::min(p1.x, p2.x) || std::max(p1.y, p2.y) < std::min(q1.y, q2.y) ||
+      std::max(q1.y, q2.y) < std::min(p1.y, p2.y))
+    {
+      return false;
+    }
+    const double o1 = strata::orient2d(p1, p2, q1), o2 = strata::orient2d(p1, p2, q2);
+    const double o3 = strata::orient2d(q1, q2, p1), o4 = strata::orient2d(q1, q2, p2);
+    return ((o1 >= 0 && o2 <= 0) || (o1 <= 0 && o2 >= 0)) &&
+      ((o3 >= 0 && o4 <= 0) || (o3 <= 0 && o4 >= 0));
+  };
+  return crosses(p, q, a, b) || crosses(p, q, b, c) || crosses(p, q, c, a);
+}
+
+TEST(Grid48Test, local_criterion_leaves_no_triangle_crossed_by_two_curves)
+{
+  for (const std::string name : { "salt_dome.vtp",
+         "salt_dome_loops.vtp",
+         "pinch_out.vtp",
+         "thin_layer.vtp",
+         "geology_marmousi.vtp",
+         "countries_westeurope_loops.vtp" })
+  {
+    const Loaded& m = load(name);
+    const Grid48Params p = smallParams();
+    const Grid48 grid = Grid48::build(m.model, *m.field, p);
+    const TestCurves curves = curvesOf(m.model);
+    int crossedByOne = 0;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t) || grid.nodeLevel(t) >= p.localMaxLevel)
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      const Vec2 a = grid.vertexPosition(v[0]), b = grid.vertexPosition(v[1]),
+                 c = grid.vertexPosition(v[2]);
+      std::set<int> hit;
+      for (std::size_t s = 0; s < curves.a.size(); ++s)
+      {
+        if (segmentMeetsTriangle(curves.a[s], curves.b[s], a, b, c))
+        {
+          hit.insert(curves.curve[s]);
+        }
+      }
+      ASSERT_LE(hit.size(), 1u) << name << ": leaf " << t << " of level " << grid.nodeLevel(t);
+      crossedByOne += hit.size() == 1 ? 1 : 0;
+    }
+    EXPECT_GT(crossedByOne, 0) << name;
+  }
+}
+
+TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curve)
+{
+  // One closed curve: a lens 0.02 thick and 2 long in a 4 x 4 square region (Loops form).
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::Loops;
+  auto addLoop = [&raw](const std::vector<Vec2>& pts, int region)
+  {
+    const std::int64_t base = static_cast<std::int64_t>(raw.points.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+    {
+      raw.points.push_back(pts[i]);
+      raw.connectivity.push_back(base + static_cast<std::int64_t>(i));
+    }
+    raw.connectivity.push_back(base);
+    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
+    raw.regionId.push_back(region);
+  };
+  raw.offsets.push_back(0);
+  addLoop({ { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
+  addLoop({ { -1, 0.011 }, { 1, 0.011 }, { 1, 0.031 }, { -1, 0.031 } }, 1);
+  const strata::Model model = strata::buildModel(raw);
+  const strata::DistanceField field(model);
+  Grid48Params p;
+  p.maxLevel = 6;
+  p.localMaxLevel = 20;
+  p.thinRegionRefinement = false;
+  const Grid48 without = Grid48::build(model, field, p);
+  p.thinRegionRefinement = true;
+  const Grid48 with = Grid48::build(model, field, p);
+  EXPECT_GT(with.numberOfLeaves(), without.numberOfLeaves());
+  // With the rule, no leaf below localMaxLevel holds both long sides of the lens.
+  for (int t = 0; t < static_cast<int>(with.numberOfNodes()); ++t)
+  {
+    if (!with.isLeaf(t) || with.nodeLevel(t) >= p.localMaxLevel)
+    {
+      continue;
+    }
+    const auto& v = with.nodeVertices(t);
+    const Vec2 a = with.vertexPosition(v[0]), b = with.vertexPosition(v[1]),
+               c = with.vertexPosition(v[2]);
+    EXPECT_FALSE(segmentMeetsTriangle({ -0.9, 0.011 }, { 0.9, 0.011 }, a, b, c) &&
+      segmentMeetsTriangle({ -0.9, 0.031 }, { 0.9, 0.031 }, a, b, c))
+      << "leaf " << t << " of level " << with.nodeLevel(t);
+  }
+  expectValidMesh(with, with.extract(), "lens");
+}
+
+TEST(Grid48Test, both_forms_of_a_model_refine_alike)
+{
+  for (const auto& [shared, loops] :
+    { std::pair<std::string, std::string>{ "salt_dome.vtp", "salt_dome_loops.vtp" },
+      { "gulf_section.vtp", "gulf_section_loops.vtp" },
+      { "countries_westeurope.vtp", "countries_westeurope_loops.vtp" } })
+  {
+    const Loaded& a = load(shared);
+    const Loaded& b = load(loops);
+    const Grid48 ga = Grid48::build(a.model, *a.field, smallParams());
+    const Grid48 gb = Grid48::build(b.model, *b.field, smallParams());
+    EXPECT_EQ(ga.numberOfLeaves(), gb.numberOfLeaves()) << shared;
+  }
+}
+
+// The leaves as sorted lattice triangles, to compare grids exactly.
+std::vector<std::array<std::uint32_t, 6>> leafSet(const Grid48& grid)
+{
+  std::vector<std::array<std::uint32_t, 6>> out;
+  for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+  {
+    if (grid.isLeaf(t))
+    {
+      const auto& v = grid.nodeVertices(t);
+      std::array<std::uint32_t, 6> key;
+      for (int k = 0; k < 3; ++k)
+      {
+        key[2 * k] = grid.vertexLattice(v[k])[0];
+        key[2 * k + 1] = grid.vertexLattice(v[k])[1];
+      }
+      out.push_back(key);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(Grid48Test, resumed_refinement_equals_building_from_scratch)
+{
+  for (const std::string name :
+    { "salt_dome.vtp", "countries_westeurope.vtp", "guitar.vtp", "thin_layer.vtp" })
+  {
+    const Loaded& m = load(name);
+    Grid48Params coarse;
+    coarse.maxLevel = 10;
+    coarse.localMaxLevel = 12;
+    Grid48 resumed = Grid48::build(m.model, *m.field, coarse);
+    const std::size_t before = resumed.numberOfLeaves();
+    Grid48Params fine;
+    fine.maxLevel = 13;
+    fine.localMaxLevel = 16;
+    resumed.refine(m.model, *m.field, fine);
+    const Grid48 scratch = Grid48::build(m.model, *m.field, fine);
+    EXPECT_GT(resumed.numberOfLeaves(), before) << name;
+    EXPECT_EQ(resumed.numberOfLeaves(), scratch.numberOfLeaves()) << name;
+    EXPECT_TRUE(leafSet(resumed) == leafSet(scratch)) << name;
+    expectValidMesh(resumed, resumed.extract(), name + " resumed");
+    expectConsistentNeighbours(resumed);
+    // Refining again with the same parameters changes nothing.
+    resumed.refine(m.model, *m.field, fine);
+    EXPECT_EQ(resumed.numberOfLeaves(), scratch.numberOfLeaves()) << name;
+  }
+}
+
+TEST(Grid48Test, grid_meshes_carry_levels_and_known_distances)
+{
+  const Loaded& m = load("salt_dome.vtp");
+  const Grid48 grid = Grid48::build(m.model, *m.field, smallParams());
+  const TriangleMesh mesh = grid.extract();
+  ASSERT_EQ(mesh.pointBoundaryDistance.size(), mesh.points.size());
+  strata::DistanceField::Scratch scratch;
+  int known = 0;
+  for (std::size_t i = 0; i < mesh.points.size(); ++i)
+  {
+    const double d = mesh.pointBoundaryDistance[i];
+    if (!std::isnan(d))
+    {
+      EXPECT_DOUBLE_EQ(d, m.field->boundaryDistance(mesh.points[i], scratch));
+      ++known;
+    }
+    EXPECT_EQ(mesh.pointLevel[i], grid.vertexLevel(mesh.pointVertex[i]));
+  }
+  EXPECT_GT(known, 0);
+  // A vertex created by splitting a level-l triangle first appears at level l + 1, as the
+  // right angle of the two children.
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+  {
+    EXPECT_EQ(mesh.pointLevel[mesh.triangles[t][0]], mesh.triangleLevel[t]);
+  }
+}
+
+TEST(Grid48Test, memory_per_leaf_is_below_200_bytes)
+{
+  const Loaded& m = load("gulf_section.vtp");
+  Grid48Params p;
+  p.maxLevel = 18;
+  p.localMaxLevel = 22;
+  const Grid48 grid = Grid48::build(m.model, *m.field, p);
+  ASSERT_GT(grid.numberOfLeaves(), 100000u);
+  const double perLeaf = static_cast<double>(grid.memoryBytes()) / grid.numberOfLeaves();
+  EXPECT_LT(perLeaf, 200.0);
+  EXPECT_GT(perLeaf, 50.0); // sanity: the hierarchy is in there
+}
+
+TEST(Grid48Test, empty_model_gives_the_level0_square)
+{
+  strata::RawPolylines raw;
+  raw.offsets.push_back(0);
+  raw.form = strata::ModelForm::Loops;
+  const strata::Model model = strata::buildModel(raw);
+  const strata::DistanceField field(model);
+  const Grid48 grid = Grid48::build(model, field);
+  EXPECT_EQ(grid.numberOfLeaves(), 4u);
+  expectValidMesh(grid, grid.extract(), "empty");
+}
+
+TEST(Grid48Test, parameters_out_of_range_throw)
+{
+  const Loaded& m = load("pinch_out.vtp");
+  auto build = [&](Grid48Params p) { return Grid48::build(m.model, *m.field, p); };
+  Grid48Params p;
+  p.maxLevel = 61;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.maxLevel = -2;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p = {};
+  p.maxLevel = 12;
+  p.localMaxLevel = 11;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.localMaxLevel = 61;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p = {};
+  p.tolerance = -1.0;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.tolerance = std::nan("");
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p = {};
+  p.margin = -0.1;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.margin = 2.0;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  EXPECT_THROW(Grid48(Box2{ { 0, 0 }, { 1, 1 } }).extract(-2), strata::ParameterError);
+  // The model must fit in the grid's domain to resume.
+  const Loaded& other = load("gulf_section.vtp");
+  Grid48 small = build({});
+  EXPECT_THROW(small.refine(other.model, *other.field, {}), strata::ParameterError);
+  // Explicit localMaxLevel == maxLevel: no local refinement at all.
+  p = {};
+  p.maxLevel = 12;
+  p.localMaxLevel = 12;
+  EXPECT_LE(build(p).maxLeafLevel(), 12);
+}
+
+TEST(Grid48Test, progress_is_reported_and_abort_leaves_a_valid_grid)
+{
+  const Loaded& m = load("gulf_section.vtp");
+  Grid48Params p;
+  p.maxLevel = 16;
+  p.localMaxLevel = 20;
+  std::vector<double> fractions;
+  const Grid48 grid = Grid48::build(m.model,
+    *m.field,
+    p,
+    strata::ProgressReporter(
+      [&](double f, const char*)
+      {
+        fractions.push_back(f);
+        return true;
+      }));
+  ASSERT_GE(fractions.size(), 3u);
+  EXPECT_EQ(fractions.front(), 0.0);
+  EXPECT_EQ(fractions.back(), 1.0);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+
+  Grid48 partial = Grid48::build(m.model, *m.field, { 8, 8, 0.0, true, true, 0.05 });
+  int calls = 0;
+  EXPECT_THROW(partial.refine(m.model,
+                 *m.field,
+                 p,
+                 strata::ProgressReporter([&](double, const char*) { return ++calls < 3; })),
+    strata::Aborted);
+  EXPECT_LT(partial.numberOfLeaves(), grid.numberOfLeaves());
+  expectValidMesh(partial, partial.extract(), "aborted");
+  expectConsistentNeighbours(partial);
+  // Resuming after the abort reaches the same grid.
+  partial.refine(m.model, *m.field, p);
+  EXPECT_TRUE(leafSet(partial) == leafSet(grid));
+}
+
+} // namespace
