@@ -1,5 +1,6 @@
 # Adapter tests: the VTK filters through real VTK pipelines (reader -> filter -> checks).
 set(_adapter_tests
+  Adaptive48GridFilterTest
   PolylineSignedDistanceFilterTest
   )
 foreach (_test IN LISTS _adapter_tests)

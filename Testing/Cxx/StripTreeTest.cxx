@@ -369,6 +369,16 @@ TEST(StripTreeTest, zero_length_segment_is_its_point)
   EXPECT_EQ(compareWithBruteForce(s, tree, points, first), 0u) << first;
 }
 
+TEST(StripTreeTest, nan_query_point_finds_no_segment_and_terminates)
+{
+  const Segments s = readSegments("lake_superior.vtp");
+  const StripTree tree(s.a, s.b);
+  StripTreeScratch scratch;
+  const NearestSegment ns = tree.nearest({ std::nan(""), 0.0 }, scratch);
+  EXPECT_EQ(ns.segment, -1);
+  EXPECT_EQ(ns.distance2, HUGE_VAL);
+}
+
 TEST(StripTreeTest, tree_has_two_n_minus_one_nodes)
 {
   for (int n : { 1, 2, 3, 7, 8, 9, 100, 1023, 1024, 1025 })

@@ -9,6 +9,8 @@ from paraview import servermanager  # noqa: E402
 # pvpython name -> label in the Filters menu
 FILTERS = {
     "PolylineSignedDistance": "Polyline Signed Distance",
+    "Adaptive48Grid": "Adaptive 4-8 Grid",
+    "Classify48Grid": "Classify 4-8 Grid",
 }
 
 
