@@ -10,8 +10,8 @@
 // touching at a vertex, or a ring visiting a vertex twice) gets a "star": the list of all the
 // region's segments that leave or reach it. One more strip tree holds every boundary segment
 // of every region once (a segment shared by two regions, i.e. the same pair of node ids, is
-// kept once, with the input cell id of its first occurrence) for boundaryDistance() and the
-// nearest input curve.
+// kept once, with the input cell id of its first occurrence; found with a hash set, O(n)) for
+// boundaryDistance() and the nearest input curve.
 //
 // Signed distance to region R
 // ---------------------------
@@ -22,7 +22,9 @@
 // 4. Sign at q. The open disk of radius d around p holds no boundary point, so the segment
 //    from p to q crosses no boundary and p is on the same side as the points next to q in
 //    the direction of p:
-//    - 0 < t < 1 (q inside segment a->b): inside iff p is left of a->b (orient2d > 0).
+//    - 0 < t < 1 (q inside segment a->b): inside iff p is left of a->b (orient2d > 0), or on
+//      its line (orient2d == 0: a point on a segment whose computed distance is a rounding
+//      residue rather than 0 is on the boundary, hence inside).
 //    - t == 0 or t == 1 (q is a vertex v): gather the edges of R at v (the ring's incoming and
 //      outgoing segment, or the star of a shared vertex), as directions from v: w - v for an
 //      outgoing edge v->w, u - v for an incoming edge u->v. The direction p - v falls in the
@@ -139,13 +141,21 @@ DistanceField::DistanceField(const Model& model)
         r.bounds.add(p);
         r.prev.push_back(base + (i + n - 1) % n);
         r.next.push_back(base + j);
-        occurrences.emplace_back(ring.nodes[i], 2 * (base + i) + 1); // leaves node i
-        occurrences.emplace_back(ring.nodes[j], 2 * (base + i));     // reaches node j
+        // Vertices without a node id (< 0) are never taken as shared.
+        if (ring.nodes[i] >= 0)
+        {
+          occurrences.emplace_back(ring.nodes[i], 2 * (base + i) + 1); // leaves node i
+        }
+        if (ring.nodes[j] >= 0)
+        {
+          occurrences.emplace_back(ring.nodes[j], 2 * (base + i)); // reaches node j
+        }
 
         // Global tree: each undirected segment (pair of node ids) once.
         const auto lo = static_cast<std::uint32_t>(std::min(ring.nodes[i], ring.nodes[j]));
         const auto hi = static_cast<std::uint32_t>(std::max(ring.nodes[i], ring.nodes[j]));
-        if (seen.insert((static_cast<std::uint64_t>(lo) << 32) | hi).second)
+        const bool identified = ring.nodes[i] >= 0 && ring.nodes[j] >= 0;
+        if (!identified || seen.insert((static_cast<std::uint64_t>(lo) << 32) | hi).second)
         {
           allA.push_back(p);
           allB.push_back(q);
@@ -154,8 +164,8 @@ DistanceField::DistanceField(const Model& model)
       }
     }
 
-    // Stars of the vertices shared by several rings: a node with more than one outgoing
-    // segment in this region.
+    // Stars of the shared vertices: the nodes met more than twice (more than one incoming and
+    // one outgoing segment) in this region's rings.
     const int segments = static_cast<int>(a.size());
     r.startStar.assign(segments, -1);
     r.endStar.assign(segments, -1);
