@@ -1,6 +1,7 @@
 # Adapter tests: the VTK filters through real VTK pipelines (reader -> filter -> checks).
 set(_adapter_tests
   Adaptive48GridFilterTest
+  PhysicalCompressionTriangulatorTest
   PolylineSignedDistanceFilterTest
   )
 foreach (_test IN LISTS _adapter_tests)

@@ -11,6 +11,7 @@ FILTERS = {
     "PolylineSignedDistance": "Polyline Signed Distance",
     "Adaptive48Grid": "Adaptive 4-8 Grid",
     "Classify48Grid": "Classify 4-8 Grid",
+    "PhysicalCompressionTriangulation": "Physical Compression Triangulation",
 }
 
 

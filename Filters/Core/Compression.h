@@ -1,0 +1,193 @@
+// StrataMesh core: physical compression of a classified grid onto the model's boundaries
+// (paper Section 6: push, restrain, rails, junctions, flips; Section 5: face classification),
+// followed by an optional quality pass beyond the paper. No VTK.
+#ifndef StrataMeshCore_Compression_h
+#define StrataMeshCore_Compression_h
+
+#include "Classification.h"
+#include "DistanceField.h"
+#include "Grid48.h"
+#include "Model.h"
+#include "Progress.h"
+#include "SpringSystem.h"
+#include "StripTree.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace strata
+{
+
+/// Which end points of the intersection edges are pushed onto the boundary (paper 6.3).
+enum class PushCriterion : int
+{
+  AllCandidates = 0, ///< both end points of every intersection edge
+  OneSide = 1,       ///< the exterior end against a region, the end in the region of larger id
+                     ///< between two regions; the closer end when both are in one region
+  Closest = 2        ///< the end point closer to the boundary
+};
+
+/// Parameters of compress(). Lengths are relative to the local edge length h (the mean rest
+/// length of a vertex's grid edges), times are in the particle system's dimensionless time
+/// (see SpringParams), so the defaults fit every model whatever its units and size.
+struct CompressionParams
+{
+  /// Springs per edge only, or edge + projection springs (paper 6.1). Default: both.
+  SpringConfiguration springConfiguration = SpringConfiguration::EdgeAndProjection;
+  /// ks. Range (0, 1e3].
+  double springStiffness = 1.0;
+  /// kd of the edge springs. Range [0, 1e3].
+  double damping = 0.5;
+  /// Duration of one step. Range (0, 1]. With the default stiffness a spring's period is
+  /// about 44 steps.
+  double timeStep = 0.1;
+  /// Steps of the simulation (push, then scattering) at most; it stops earlier when every
+  /// pushed vertex has arrived or is stuck and nothing moves by more than 1e-3 h per step.
+  /// Range [0, 1e6]; 0 skips the simulation (pushes and rails then only happen in the final
+  /// snap of stuck vertices).
+  int maxIterations = 600;
+  /// Default: OneSide (the paper's best).
+  PushCriterion pushCriterion = PushCriterion::OneSide;
+  /// Speed of pushed vertices in local edge lengths per unit time: with the default time step
+  /// a pushed vertex moves 0.05 h per step. Range (0, 10].
+  double pushVelocity = 0.5;
+  /// Degrees. A boundary point whose angle (between its two segments, 180 = straight) is
+  /// smaller than this is a feature: a vertex sliding over it stops there for good (paper
+  /// 6.4). Range [0, 180]; 0 means no features.
+  double featureAngle = 140.0;
+  /// Flip the longest edge of collapsed or very small triangles when that is valid and
+  /// improves them (paper 6.5), every flipInterval steps and at the end.
+  bool flipDegenerate = true;
+  /// Steps between two degeneracy checks. Range [1, 1e6].
+  int flipInterval = 10;
+  /// Vertices within this many edge rings of a candidate (an end point of an intersection
+  /// edge or a junction vertex) are simulated; the rest of the grid is fixed. Range [1, 16].
+  int activeRings = 3;
+  /// Beyond the paper: after the simulation, snap stuck boundary vertices onto their curve,
+  /// then flip edges and smooth vertices (free ones in the plane, boundary ones along their
+  /// curve) toward larger minimum angles, never changing a face's region and never lowering
+  /// the smallest angle around the vertex or edge touched.
+  bool optimize = true;
+  /// Rounds of (flip pass, smoothing pass) of the optimization. Range [0, 100].
+  int optimizationPasses = 6;
+};
+
+/// Validates params (ParameterError naming the parameter and its range).
+void validate(const CompressionParams& params);
+
+/// The model's boundary as rails: the distinct boundary segments chained through the nodes
+/// where exactly two of them meet; chains end at junctions (nodes of any other degree, the
+/// Model::junctions) and closed chains have none. Each chain knows the regions on its left and
+/// right (-1 exterior) and which of its points are features.
+class BoundaryRails
+{
+public:
+  struct Chain
+  {
+    std::vector<Vec2> points;          ///< local coordinates; closed chains do not repeat
+    std::vector<int> nodes;            ///< Model node id of each point
+    std::vector<std::uint8_t> feature; ///< per point: 1 = a vertex sliding over it stops there
+    bool closed = false;
+    int left = -1, right = -1;         ///< region ids on both sides (-1 exterior)
+    std::size_t numberOfSegments() const
+    {
+      return this->closed ? this->points.size() : this->points.size() - 1;
+    }
+  };
+  /// A point on a rail: chain, segment of the chain (from points[segment] to the next point)
+  /// and parameter t in [0, 1] along it.
+  struct Location
+  {
+    int chain = -1;
+    int segment = -1;
+    double t = 0.0;
+  };
+  struct Slide
+  {
+    Location location;
+    bool stopped = false; ///< stopped at a feature point or a chain end
+  };
+
+  /// featureAngle in degrees (see CompressionParams::featureAngle). Chain ends are always
+  /// stop points.
+  BoundaryRails(const Model& model, double featureAngle);
+
+  std::size_t numberOfChains() const { return this->Chains.size(); }
+  const Chain& chain(int i) const { return this->Chains[i]; }
+  std::size_t numberOfSegments() const { return this->Tree.numberOfSegments(); }
+
+  /// Closest boundary point to p (distance in *distance when given).
+  Location closest(Vec2 p, StripTreeScratch& scratch, double* distance = nullptr) const;
+  Vec2 position(const Location& l) const;
+  /// Unit direction of the location's segment (chain direction).
+  Vec2 tangent(const Location& l) const;
+  /// Moves along the chain by the signed arc length s; stops on reaching a feature point or
+  /// a chain end (the returned location is then exactly that point).
+  Slide slide(const Location& from, double s) const;
+  /// Index of the chain point the location is exactly at (t = 0 or 1), or -1.
+  int pointAt(const Location& l) const;
+  /// Whether chain point `point` stops sliding vertices (a feature or a chain end).
+  bool isStop(int chain, int point) const;
+  /// Locations of the chain points at model node `node` (several for a junction).
+  std::vector<Location> locationsOfNode(int node) const;
+
+private:
+  std::vector<Chain> Chains;
+  StripTree Tree;
+  std::vector<std::array<int, 2>> SegmentOf; // tree segment -> (chain, segment)
+};
+
+/// Vertex states at the end of compress().
+enum CompressedVertex : std::int8_t
+{
+  VertexUntouched = 0, ///< outside the simulated zone: still at its grid position
+  VertexFree = 1,      ///< simulated, moved by the springs (and the optimization)
+  VertexOnCurve = 2,   ///< on a boundary curve (arrived there, slides along it)
+  VertexPinned = 3,    ///< exactly on a junction or a feature point, never moves again
+  VertexStuck = 4      ///< was pushed but could not reach the boundary
+};
+
+struct CompressionResult
+{
+  std::vector<Vec2> points;                  ///< final positions (local coordinates)
+  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise (after flips)
+  std::vector<int> triangleLevel;            ///< grid level (a flipped pair: the finer of both)
+  /// Section 5 face classification: region of each triangle's barycentre (-1 exterior).
+  std::vector<int> triangleRegion;
+  std::vector<std::int8_t> vertexState;     ///< CompressedVertex per point
+  int iterations = 0;                       ///< simulation steps run
+  std::size_t simulatedVertices = 0;        ///< vertices in the simulated zone
+  std::size_t pushedVertices = 0;           ///< vertices marked to be pushed
+  std::size_t arrivedVertices = 0;          ///< of those, reached the boundary in the simulation
+  std::size_t snappedVertices = 0;          ///< moved onto a curve after the simulation
+  std::size_t junctionVertices = 0;         ///< vertices placed on junctions
+  std::size_t flips = 0;                    ///< degeneracy flips (6.5)
+  std::size_t optimizationFlips = 0;        ///< flips of the quality pass
+  std::size_t smoothingMoves = 0;           ///< accepted smoothing moves
+  std::size_t offCurveBoundaryVertices = 0; ///< vertices of the region boundary not on a curve
+  std::size_t degenerateTriangles = 0;      ///< triangles of zero or negative area left (0)
+  std::vector<std::pair<std::string, double>> secondsPerStage;
+  std::vector<std::string> warnings;
+};
+
+/// Compresses the grid mesh `grid` (as extracted from a Grid48, classified by classify() with
+/// the same model and field) onto the model's boundaries and classifies its faces. Throws
+/// ParameterError for parameters out of range or a classification of another mesh, Aborted
+/// when the progress callback asks to stop (checked at least every simulation step).
+CompressionResult compress(const TriangleMesh& grid, const Classification& classification,
+  const Model& model, const DistanceField& field, const CompressionParams& params = {},
+  const ProgressReporter& progress = ProgressReporter());
+
+/// Whether moving vertex `i` of a counter-clockwise triangle list to `to` keeps every
+/// triangle of `star` (ids of triangles containing i) counter-clockwise with twice-area at
+/// least min(minTwiceArea[t], its current twice-area) and > 0: the paper's restrain test
+/// (6.3), with two cross products per (vertex, opposite edge) pair.
+bool restrainAccepts(const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles,
+  const int* star, int starSize, int i, Vec2 to, const double* minTwiceArea = nullptr);
+
+} // namespace strata
+
+#endif

@@ -1,0 +1,416 @@
+// StrataMesh core: the triangulation pipeline.
+//
+// Stages (each timed, each with its share of the progress range):
+//   model               buildModel: validated regions, curves, junctions (local coordinates)
+//   distance field      one strip tree per region
+//   grid                Grid48::build + extract(): the adaptive 4-8 mesh (finest level)
+//   classification      classify(): vertices, edges, faces against the regions
+//   compression ...     compress(): set-up, simulation, face classification, optimization
+//   output              exterior triangles dropped, points compacted, quality per triangle,
+//                       vertex classes, displacements, approximated boundary chained into
+//                       Shared curves, summary (angles, boundary deviation, region areas)
+// Nothing is kept between calls.
+#include "Mesher.h"
+
+#include "DistanceField.h"
+#include "Errors.h"
+#include "Quality.h"
+#include "StripTree.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace strata
+{
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double ringArea(const Ring& ring)
+{
+  double sum = 0.0;
+  const std::size_t n = ring.points.size();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    sum += cross(ring.points[i], ring.points[(i + 1) % n]);
+  }
+  return 0.5 * sum;
+}
+} // namespace
+
+std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& region)
+{
+  const std::size_t np = points.size();
+  // Directed edges of the kept triangles, by start vertex.
+  std::vector<int> start(np + 1, 0);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    if (region[t] >= 0)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        ++start[triangles[t][k] + 1];
+      }
+    }
+  }
+  for (std::size_t i = 0; i < np; ++i)
+  {
+    start[i + 1] += start[i];
+  }
+  std::vector<std::pair<int, int>> out(start.back()); // (end vertex, region of the left face)
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+    {
+      if (region[t] >= 0)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          out[fill[triangles[t][k]]++] = { triangles[t][(k + 1) % 3], region[t] };
+        }
+      }
+    }
+  }
+  auto leftOf = [&](int a, int b) {
+    for (int s = start[a]; s < start[a + 1]; ++s)
+    {
+      if (out[s].first == b)
+      {
+        return out[s].second;
+      }
+    }
+    return -1;
+  };
+  // Boundary edges a -> b with left > right (each edge once), as (a, b, left, right).
+  struct BEdge
+  {
+    int a, b, left, right;
+  };
+  std::vector<BEdge> edges;
+  for (std::size_t a = 0; a < np; ++a)
+  {
+    for (int s = start[a]; s < start[a + 1]; ++s)
+    {
+      const int b = out[s].first;
+      const int left = out[s].second;
+      const int right = leftOf(b, static_cast<int>(a));
+      if (left > right)
+      {
+        edges.push_back({ static_cast<int>(a), b, left, right });
+      }
+    }
+  }
+  // Chain through vertices with exactly one incoming and one outgoing boundary edge of the same
+  // pair of regions.
+  std::vector<int> outCount(np, 0), inCount(np, 0), firstOut(np, -1), firstIn(np, -1);
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    ++outCount[edges[e].a];
+    ++inCount[edges[e].b];
+    firstOut[edges[e].a] = static_cast<int>(e);
+    firstIn[edges[e].b] = static_cast<int>(e);
+  }
+  auto passes = [&](int v) {
+    if (outCount[v] != 1 || inCount[v] != 1)
+    {
+      return false;
+    }
+    const BEdge& i = edges[firstIn[v]];
+    const BEdge& o = edges[firstOut[v]];
+    return i.left == o.left && i.right == o.right;
+  };
+  std::vector<std::uint8_t> used(edges.size(), 0);
+  std::vector<MesherResult::BoundaryCurve> curves;
+  auto follow = [&](int e) {
+    MesherResult::BoundaryCurve c;
+    c.left = edges[e].left;
+    c.right = edges[e].right;
+    const int first = edges[e].a;
+    c.points.push_back(points[first]);
+    while (true)
+    {
+      used[e] = 1;
+      const int v = edges[e].b;
+      c.points.push_back(points[v]);
+      if (v == first || !passes(v))
+      {
+        break;
+      }
+      e = firstOut[v];
+      if (used[e])
+      {
+        break;
+      }
+    }
+    curves.push_back(std::move(c));
+  };
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    if (!used[e] && !passes(edges[e].a))
+    {
+      follow(static_cast<int>(e));
+    }
+  }
+  for (std::size_t e = 0; e < edges.size(); ++e)
+  {
+    if (!used[e])
+    {
+      follow(static_cast<int>(e)); // closed cycles
+    }
+  }
+  return curves;
+}
+
+MesherResult triangulate(
+  const RawPolylines& input, const MesherParams& params, const ProgressCallback& callback)
+{
+  const ProgressReporter progress(callback);
+  MesherResult result;
+  const Clock::time_point begin = Clock::now();
+  Clock::time_point t0 = begin;
+  auto stage = [&](const char* name) {
+    const Clock::time_point now = Clock::now();
+    result.summary.secondsPerStage.push_back(
+      { name, std::chrono::duration<double>(now - t0).count() });
+    t0 = now;
+  };
+  // Validate every parameter before any work.
+  validate(params.compression);
+  progress.report(0.0, "building the model");
+  const Model model = buildModel(input, params.model);
+  result.origin = model.origin;
+  result.warnings = model.warnings;
+  stage("model");
+  if (model.empty())
+  {
+    result.warnings.push_back("the model is empty: no triangles");
+    return result;
+  }
+  Grid48::resolveParams(model, params.grid); // ParameterError before the expensive stages
+
+  progress.report(0.02, "building the distance field");
+  const DistanceField field(model);
+  stage("distance field");
+
+  const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.15));
+  const TriangleMesh mesh = grid.extract();
+  stage("grid");
+
+  const Classification classification =
+    classify(mesh, model, field, params.classification, progress.sub(0.15, 0.25));
+  stage("classification");
+
+  const CompressionResult compressed = compress(
+    mesh, classification, model, field, params.compression, progress.sub(0.25, 0.95));
+  for (const auto& s : compressed.secondsPerStage)
+  {
+    result.summary.secondsPerStage.push_back(s);
+  }
+  t0 = Clock::now();
+  result.summary.iterations = compressed.iterations;
+  result.warnings.insert(
+    result.warnings.end(), compressed.warnings.begin(), compressed.warnings.end());
+
+  // Keep the region triangles, compact their points.
+  progress.report(0.95, "writing the mesh");
+  const std::size_t nt = compressed.triangles.size();
+  std::vector<int> newId(compressed.points.size(), -1);
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (compressed.triangleRegion[t] < 0)
+    {
+      continue;
+    }
+    std::array<int, 3> tri{};
+    for (int k = 0; k < 3; ++k)
+    {
+      const int v = compressed.triangles[t][k];
+      if (newId[v] < 0)
+      {
+        newId[v] = static_cast<int>(result.points.size());
+        result.points.push_back(compressed.points[v]);
+        result.displacement.push_back(compressed.points[v] - mesh.points[v]);
+      }
+      tri[k] = newId[v];
+    }
+    result.triangles.push_back(tri);
+    result.regionId.push_back(compressed.triangleRegion[t]);
+    result.level.push_back(compressed.triangleLevel[t]);
+  }
+  const std::vector<TriangleQuality> q = triangleQualities(result.points, result.triangles);
+  result.minAngle.resize(q.size());
+  result.maxAngle.resize(q.size());
+  result.radiusRatio.resize(q.size());
+  result.area.resize(q.size());
+  for (std::size_t t = 0; t < q.size(); ++t)
+  {
+    result.minAngle[t] = q[t].minAngle;
+    result.maxAngle[t] = q[t].maxAngle;
+    result.radiusRatio[t] = q[t].radiusRatio;
+    result.area[t] = q[t].area;
+  }
+  const QualitySummary qs = summarizeQuality(q);
+  if (qs.inverted + qs.degenerate > 0)
+  {
+    result.warnings.push_back(std::to_string(qs.inverted + qs.degenerate) +
+      " output triangles have zero or negative area");
+  }
+
+  // Approximated boundary, vertex classes.
+  result.boundary = approximatedBoundary(result.points, result.triangles, result.regionId);
+  result.vertexClass.assign(result.points.size(), VertexInterior);
+  {
+    // Boundary vertices: those of the boundary curves (positions are exact copies).
+    std::vector<std::array<int, 2>> ids;
+    // Recompute by edges to avoid matching positions.
+    std::vector<std::array<int, 3>> none;
+    std::vector<int> start(result.points.size() + 1, 0);
+    for (const auto& tri : result.triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        ++start[tri[k] + 1];
+      }
+    }
+    for (std::size_t i = 0; i + 1 < start.size(); ++i)
+    {
+      start[i + 1] += start[i];
+    }
+    std::vector<std::pair<int, int>> out(start.back());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < result.triangles.size(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        out[fill[result.triangles[t][k]]++] = { result.triangles[t][(k + 1) % 3],
+          result.regionId[t] };
+      }
+    }
+    for (std::size_t a = 0; a < result.points.size(); ++a)
+    {
+      for (int s = start[a]; s < start[a + 1]; ++s)
+      {
+        const int b = out[s].first;
+        int right = -1;
+        for (int r = start[b]; r < start[b + 1]; ++r)
+        {
+          if (out[r].first == static_cast<int>(a))
+          {
+            right = out[r].second;
+          }
+        }
+        if (right != out[s].second)
+        {
+          result.vertexClass[a] = VertexBoundary;
+          result.vertexClass[b] = VertexBoundary;
+        }
+      }
+    }
+  }
+
+  // Deviation of the approximated boundary from the input curves, both ways.
+  {
+    const BoundaryRails rails(model, 0.0);
+    StripTreeScratch scratch;
+    double maxVertex = 0.0, maxMeshToModel = 0.0;
+    std::vector<Vec2> a, b;
+    for (const MesherResult::BoundaryCurve& c : result.boundary)
+    {
+      for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
+      {
+        a.push_back(c.points[i]);
+        b.push_back(c.points[i + 1]);
+        double d = 0.0;
+        rails.closest(c.points[i], scratch, &d);
+        maxVertex = std::max(maxVertex, d);
+        for (double f : { 0.2, 0.4, 0.6, 0.8 })
+        {
+          rails.closest(c.points[i] + f * (c.points[i + 1] - c.points[i]), scratch, &d);
+          maxMeshToModel = std::max(maxMeshToModel, d);
+        }
+      }
+      if (!c.points.empty())
+      {
+        double d = 0.0;
+        rails.closest(c.points.back(), scratch, &d);
+        maxVertex = std::max(maxVertex, d);
+      }
+    }
+    double maxModelToMesh = 0.0;
+    if (!a.empty())
+    {
+      const StripTree tree(a, b);
+      for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+      {
+        const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+        const std::size_t n = c.points.size();
+        for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+        {
+          const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
+          for (double f : { 0.0, 0.2, 0.4, 0.6, 0.8 })
+          {
+            const NearestSegment s = tree.nearest(p + f * (r - p), scratch);
+            maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+          }
+        }
+        if (!c.closed && n > 0)
+        {
+          const NearestSegment s = tree.nearest(c.points.back(), scratch);
+          maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+        }
+      }
+    }
+    result.summary.maxBoundaryVertexDistance = maxVertex;
+    result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
+    if (maxVertex > 1e-9 * model.size())
+    {
+      result.warnings.push_back("a vertex of the approximated boundary lies " +
+        std::to_string(maxVertex) + " model units off the input curves");
+    }
+  }
+
+  // Region areas.
+  for (const Region& r : model.regions)
+  {
+    MesherResult::RegionArea ra;
+    ra.id = r.id;
+    for (const Ring& ring : r.rings)
+    {
+      ra.model += ringArea(ring);
+    }
+    result.regionAreas.push_back(ra);
+  }
+  for (std::size_t t = 0; t < result.triangles.size(); ++t)
+  {
+    const int index = model.regionIndex(result.regionId[t]);
+    if (index >= 0)
+    {
+      result.regionAreas[index].mesh += result.area[t];
+    }
+  }
+  for (const MesherResult::RegionArea& ra : result.regionAreas)
+  {
+    if (ra.model > 0.0)
+    {
+      result.summary.maxRegionAreaError =
+        std::max(result.summary.maxRegionAreaError, std::fabs(ra.mesh - ra.model) / ra.model);
+    }
+  }
+
+  result.summary.triangles = result.triangles.size();
+  result.summary.vertices = result.points.size();
+  result.summary.minAngle = qs.minAngle;
+  result.summary.maxAngle = qs.maxAngle;
+  result.summary.percentAngles30to60 = qs.percentAngles30to60;
+  result.summary.percentTriangles30to60 = qs.percentTriangles30to60;
+  stage("output");
+  result.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  progress.report(1.0, "done");
+  return result;
+}
+
+} // namespace strata

@@ -1,0 +1,104 @@
+// StrataMesh core: the whole triangulation pipeline (Model -> DistanceField -> Grid48 ->
+// Classification -> Compression -> faces, quality, approximated boundary). No VTK.
+#ifndef StrataMeshCore_Mesher_h
+#define StrataMeshCore_Mesher_h
+
+#include "Classification.h"
+#include "Compression.h"
+#include "Geometry.h"
+#include "Grid48.h"
+#include "Model.h"
+#include "Progress.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace strata
+{
+
+/// Parameters of every stage (each documented with its unit).
+struct MesherParams
+{
+  ModelParams model;
+  Grid48Params grid;
+  ClassificationParams classification;
+  CompressionParams compression;
+};
+
+/// The triangulation of a model, everything in local coordinates (add `origin`).
+struct MesherResult
+{
+  Vec2 origin;                               ///< add to local coordinates for input ones
+  std::vector<Vec2> points;                  ///< local; only points used by triangles
+  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise, exterior triangles dropped
+  std::vector<int> regionId;                 ///< per triangle: region id (>= 0)
+  std::vector<int> level;                    ///< per triangle: grid level
+  std::vector<double> minAngle, maxAngle;    ///< per triangle, degrees
+  std::vector<double> radiusRatio;           ///< per triangle, 2 r / R (1 equilateral)
+  std::vector<double> area;                  ///< per triangle, model units^2 (> 0)
+  std::vector<std::int8_t> vertexClass;      ///< per point: 0 exterior, 1 boundary, 2 interior
+  std::vector<Vec2> displacement;            ///< per point: final minus grid position
+
+  /// A piece of the approximated boundary (edges whose two faces have different regions, and
+  /// the outer border of the kept triangles) in the Shared curves form: `left` lies to the
+  /// left walking along `points`, `right` to the right (-1 exterior). Pieces are chained
+  /// between mesh vertices where the boundary branches or the pair of regions changes;
+  /// closed pieces repeat their first point at the end.
+  struct BoundaryCurve
+  {
+    std::vector<Vec2> points; ///< local coordinates
+    int left = -1;
+    int right = -1;
+  };
+  std::vector<BoundaryCurve> boundary;
+
+  /// Area of a region in the model (from its rings) and in the mesh.
+  struct RegionArea
+  {
+    int id = -1;
+    double model = 0.0;
+    double mesh = 0.0;
+  };
+  std::vector<RegionArea> regionAreas;
+
+  struct Summary
+  {
+    std::size_t triangles = 0, vertices = 0;
+    double minAngle = 0.0, maxAngle = 0.0;     ///< degrees
+    double percentAngles30to60 = 0.0;          ///< percent of all angles in [30, 60]
+    double percentTriangles30to60 = 0.0;       ///< percent of triangles, smallest angle in [30, 60]
+    /// Largest distance (model units) between the approximated boundary and the input curves,
+    /// both ways (Hausdorff, sampled at five points per edge / segment).
+    double maxBoundaryDeviation = 0.0;
+    /// Largest distance (model units) of a vertex of the approximated boundary from the input
+    /// curves (0 up to rounding when every boundary vertex was placed on a curve).
+    double maxBoundaryVertexDistance = 0.0;
+    /// Largest |mesh area - model area| / model area over the regions.
+    double maxRegionAreaError = 0.0;
+    int iterations = 0; ///< simulation steps
+    /// Wall-clock seconds of each stage, in order.
+    std::vector<std::pair<std::string, double>> secondsPerStage;
+    double totalSeconds = 0.0;
+  } summary;
+
+  std::vector<std::string> warnings;
+};
+
+/// Triangulates a model given as raw polylines (either form of Data/FORMAT.md). Throws
+/// InputError for a malformed model, ParameterError for parameters out of range, Aborted when
+/// the progress callback returns false (progress is reported per stage and at least every
+/// simulation step, so an abort is honoured within a few milliseconds on large meshes).
+MesherResult triangulate(const RawPolylines& input, const MesherParams& params = {},
+  const ProgressCallback& progress = {});
+
+/// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
+/// triangles with region -1 count as absent.
+std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& region);
+
+} // namespace strata
+
+#endif

@@ -1,0 +1,460 @@
+// StrataMesh core: mass-spring particle system (paper Sections 6.1 and 6.2).
+//
+// The system holds one particle per mesh vertex (position, velocity, force accumulator, the
+// same mass for all) and a list of spring sets. A step has the paper's three phases:
+//  1. force accumulators: reset, then every spring set adds the force of each of its springs
+//     to both ends (edge springs), or to the real vertex and, split by the projection
+//     parameter, to the two ends of the opposite edge (projection springs: the auxiliary
+//     particle at the projection exists only inside this loop);
+//  2. derivatives: a = F / m for every free particle;
+//  3. new velocities and positions by semi-implicit Euler (see SpringSystem.h for why).
+// Spring sets are flat arrays indexed by edge id and by triangle corner; the loops read the
+// positions and velocities through raw pointers and allocate nothing. Particles marked Driven
+// or Fixed receive forces but are not integrated: the caller moves driven ones itself.
+#include "SpringSystem.h"
+
+#include "Errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+namespace strata
+{
+
+namespace
+{
+void checkRange(bool ok, const char* name, double value, const char* range)
+{
+  if (!ok)
+  {
+    throw ParameterError(std::string("SpringSystem: ") + name + " " + std::to_string(value) +
+      " is not in " + range);
+  }
+}
+} // namespace
+
+void validate(const SpringParams& p)
+{
+  checkRange(p.configuration == SpringConfiguration::EdgeOnly ||
+      p.configuration == SpringConfiguration::EdgeAndProjection,
+    "SpringConfiguration", static_cast<double>(static_cast<int>(p.configuration)),
+    "{0 (edge only), 1 (edge and projection)}");
+  checkRange(p.stiffness > 0.0 && p.stiffness <= 1e3, "SpringStiffness", p.stiffness, "(0, 1e3]");
+  checkRange(p.damping >= 0.0 && p.damping <= 1e3, "Damping", p.damping, "[0, 1e3]");
+  checkRange(p.mass > 0.0 && p.mass <= 1e6, "Mass", p.mass, "(0, 1e6]");
+  checkRange(p.maxStep > 0.0 && p.maxStep <= 1.0, "MaxStep", p.maxStep, "(0, 1]");
+}
+
+std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles)
+{
+  std::vector<std::array<int, 2>> edges;
+  edges.reserve(triangles.size() * 3);
+  for (const std::array<int, 3>& t : triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = t[k], b = t[(k + 1) % 3];
+      edges.push_back({ std::min(a, b), std::max(a, b) });
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+Vec2 edgeSpringForce(Vec2 dx, Vec2 dv, double restLength, double ks, double kd)
+{
+  const double length = norm(dx);
+  if (length == 0.0)
+  {
+    return {};
+  }
+  const double magnitude = ks * (length - restLength) + kd * dot(dv, dx) / length;
+  return (-magnitude / length) * dx;
+}
+
+Vec2 projectionSpringForce(Vec2 dx, double restLength, double ks)
+{
+  const double length = norm(dx);
+  if (length == 0.0 || !(restLength > 0.0))
+  {
+    return {};
+  }
+  const double r = length / restLength;
+  const double magnitude = ks * restLength * (r - 1.0 / r);
+  return (-magnitude / length) * dx;
+}
+
+double edgeSpringEnergy(double length, double restLength, double ks)
+{
+  const double d = length - restLength;
+  return 0.5 * ks * d * d;
+}
+
+double projectionSpringEnergy(double length, double restLength, double ks)
+{
+  if (!(restLength > 0.0))
+  {
+    return 0.0;
+  }
+  if (length <= 0.0)
+  {
+    return HUGE_VAL;
+  }
+  // integral of ks x0 (s / x0 - x0 / s) ds from x0 to length
+  return ks * (0.5 * (length * length - restLength * restLength) -
+                restLength * restLength * std::log(length / restLength));
+}
+
+double projectionParameter(Vec2 p, Vec2 a, Vec2 b)
+{
+  const Vec2 ab = b - a;
+  const double len2 = norm2(ab);
+  if (!(len2 > 0.0))
+  {
+    return 0.0;
+  }
+  return std::clamp(dot(p - a, ab) / len2, 0.0, 1.0);
+}
+
+//------------------------------------------------------------------------------
+// Kernels of the force loops: the same laws as edgeSpringForce / projectionSpringForce with
+// the square roots and divisions they can do without.
+namespace
+{
+// Hooke + damping on end a; adds the stiffness ks to *k.
+inline Vec2 edgeKernel(Vec2 dx, Vec2 dv, double x0, double ks, double kd)
+{
+  const double l2 = norm2(dx);
+  if (l2 == 0.0)
+  {
+    return {};
+  }
+  const double inv = 1.0 / std::sqrt(l2);
+  // -(ks (l - x0) + kd (dv . dx) / l) dx / l
+  const double m = ks * (1.0 - x0 * inv) + kd * dot(dv, dx) * inv * inv;
+  return { -m * dx.x, -m * dx.y };
+}
+
+// ks x0 (r - 1 / r) dx / |dx| with r = |dx| / x0 equals ks (1 - x0^2 / |dx|^2) dx.
+inline Vec2 projectionKernel(Vec2 dx, double x02, double ks, double& stiffness)
+{
+  const double l2 = norm2(dx);
+  if (l2 == 0.0)
+  {
+    stiffness = 0.0;
+    return {};
+  }
+  const double q = x02 / l2;
+  stiffness = ks * (1.0 + q);
+  const double m = ks * (1.0 - q);
+  return { -m * dx.x, -m * dx.y };
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+// Edge springs.
+void EdgeSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest)
+{
+  this->Rest.resize(mesh.edges.size());
+  for (std::size_t e = 0; e < mesh.edges.size(); ++e)
+  {
+    this->Rest[e] = norm(rest[mesh.edges[e][0]] - rest[mesh.edges[e][1]]);
+  }
+}
+
+void EdgeSprings::flipped(
+  const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int /*t0*/, int /*t1*/)
+{
+  this->Rest[edge] = norm(x[mesh.edges[edge][0]] - x[mesh.edges[edge][1]]);
+}
+
+void EdgeSprings::addForces(
+  const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const
+{
+  const double ks = params.stiffness, kd = params.damping;
+  const std::size_t n = mesh.edges.size();
+  const std::array<int, 2>* edges = mesh.edges.data();
+  const double* rest = this->Rest.data();
+  for (std::size_t e = 0; e < n; ++e)
+  {
+    const int a = edges[e][0], b = edges[e][1];
+    const Vec2 f = edgeKernel(s.x[a] - s.x[b], s.v[a] - s.v[b], rest[e], ks, kd);
+    s.f[a] = s.f[a] + f;
+    s.f[b] = s.f[b] - f;
+  }
+  if (s.k)
+  {
+    for (std::size_t e = 0; e < n; ++e)
+    {
+      s.k[edges[e][0]] += ks;
+      s.k[edges[e][1]] += ks;
+    }
+  }
+}
+
+double EdgeSprings::energy(
+  const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const
+{
+  double sum = 0.0;
+  for (std::size_t e = 0; e < mesh.edges.size(); ++e)
+  {
+    sum += edgeSpringEnergy(
+      norm(x[mesh.edges[e][0]] - x[mesh.edges[e][1]]), this->Rest[e], params.stiffness);
+  }
+  return sum;
+}
+
+//------------------------------------------------------------------------------
+// Projection springs.
+void ProjectionSprings::restOf(const SpringMesh& mesh, const std::vector<Vec2>& x, int t)
+{
+  const std::array<int, 3>& tri = mesh.triangles[t];
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec2 p = x[tri[k]], a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
+    const double u = projectionParameter(p, a, b);
+    this->Rest[3 * t + k] = norm(p - (a + u * (b - a)));
+  }
+}
+
+void ProjectionSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest)
+{
+  this->Rest.assign(3 * mesh.triangles.size(), 0.0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+  {
+    this->restOf(mesh, rest, static_cast<int>(t));
+  }
+}
+
+void ProjectionSprings::flipped(
+  const SpringMesh& mesh, const std::vector<Vec2>& x, int /*edge*/, int t0, int t1)
+{
+  this->restOf(mesh, x, t0);
+  this->restOf(mesh, x, t1);
+}
+
+void ProjectionSprings::addForces(
+  const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const
+{
+  const double ks = params.stiffness;
+  const std::size_t n = mesh.triangles.size();
+  const std::array<int, 3>* tris = mesh.triangles.data();
+  const double* rest = this->Rest.data();
+  for (std::size_t t = 0; t < n; ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const double x0 = rest[3 * t + k];
+      if (!(x0 > 0.0))
+      {
+        continue;
+      }
+      const int i = tris[t][k], a = tris[t][(k + 1) % 3], b = tris[t][(k + 2) % 3];
+      const Vec2 p = s.x[i], pa = s.x[a], ab = s.x[b] - pa;
+      const double len2 = norm2(ab);
+      const double u = len2 > 0.0 ? std::clamp(dot(p - pa, ab) / len2, 0.0, 1.0) : 0.0;
+      double stiffness = 0.0;
+      const Vec2 f = projectionKernel(p - (pa + u * ab), x0 * x0, ks, stiffness);
+      s.f[i] = s.f[i] + f;
+      s.f[a] = s.f[a] - (1.0 - u) * f;
+      s.f[b] = s.f[b] - u * f;
+      if (s.k)
+      {
+        s.k[i] += stiffness;
+        s.k[a] += (1.0 - u) * stiffness;
+        s.k[b] += u * stiffness;
+      }
+    }
+  }
+}
+
+double ProjectionSprings::energy(
+  const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const
+{
+  double sum = 0.0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec2 p = x[tri[k]], a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
+      const double u = projectionParameter(p, a, b);
+      sum += projectionSpringEnergy(norm(p - (a + u * (b - a))), this->Rest[3 * t + k],
+        params.stiffness);
+    }
+  }
+  return sum;
+}
+
+std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration configuration)
+{
+  std::vector<std::unique_ptr<SpringSet>> sets;
+  sets.push_back(std::make_unique<EdgeSprings>());
+  if (configuration == SpringConfiguration::EdgeAndProjection)
+  {
+    sets.push_back(std::make_unique<ProjectionSprings>());
+  }
+  return sets;
+}
+
+//------------------------------------------------------------------------------
+SpringSystem::SpringSystem(SpringMesh mesh, std::vector<Vec2> positions,
+  const std::vector<Vec2>& rest, const SpringParams& params)
+  : Params(params)
+  , Mesh(std::move(mesh))
+  , X(std::move(positions))
+  , Rest(rest)
+{
+  validate(params);
+  const std::size_t n = this->X.size();
+  if (this->Rest.size() != n)
+  {
+    throw ParameterError("SpringSystem: " + std::to_string(n) + " positions but " +
+      std::to_string(this->Rest.size()) + " rest positions");
+  }
+  const int ni = static_cast<int>(n);
+  for (const std::array<int, 3>& t : this->Mesh.triangles)
+  {
+    for (int v : t)
+    {
+      if (v < 0 || v >= ni)
+      {
+        throw ParameterError("SpringSystem: a triangle refers to particle " + std::to_string(v) +
+          ", not in [0, " + std::to_string(n) + ")");
+      }
+    }
+  }
+  for (const std::array<int, 2>& e : this->Mesh.edges)
+  {
+    if (e[0] < 0 || e[0] >= ni || e[1] < 0 || e[1] >= ni)
+    {
+      throw ParameterError("SpringSystem: an edge refers to a particle out of range");
+    }
+  }
+  this->V.assign(n, Vec2{});
+  this->F.assign(n, Vec2{});
+  this->K.assign(n, 0.0);
+  this->Kind.assign(n, static_cast<std::uint8_t>(ParticleKind::Free));
+  this->Local.assign(n, 0.0);
+  std::vector<int> count(n, 0);
+  for (const std::array<int, 2>& e : this->Mesh.edges)
+  {
+    const double l = norm(this->Rest[e[0]] - this->Rest[e[1]]);
+    this->Local[e[0]] += l;
+    this->Local[e[1]] += l;
+    ++count[e[0]];
+    ++count[e[1]];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    this->Local[i] = count[i] > 0 && this->Local[i] > 0.0 ? this->Local[i] / count[i] : 1.0;
+  }
+  for (std::unique_ptr<SpringSet>& set : makeSpringSets(params.configuration))
+  {
+    this->addSpringSet(std::move(set));
+  }
+}
+
+SpringSystem::SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const SpringParams& params)
+  : SpringSystem(std::move(mesh), positions, positions, params)
+{
+}
+
+void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
+{
+  set->initialize(this->Mesh, this->Rest);
+  this->Sets.push_back(std::move(set));
+}
+
+void SpringSystem::computeForces()
+{
+  std::fill(this->F.begin(), this->F.end(), Vec2{});
+  std::fill(this->K.begin(), this->K.end(), 0.0);
+  const ParticleState s{ this->X.data(), this->V.data(), this->F.data(), this->K.data() };
+  for (const std::unique_ptr<SpringSet>& set : this->Sets)
+  {
+    set->addForces(this->Mesh, s, this->Params);
+  }
+}
+
+double SpringSystem::integrate(double dt, MoveGuard* guard)
+{
+  const double mass = this->Params.mass;
+  const double scale = 2.0 * dt * dt;
+  const double maxStep = this->Params.maxStep;
+  const std::size_t n = this->X.size();
+  double largest = 0.0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Free))
+    {
+      continue;
+    }
+    const double m = std::max(mass, scale * this->K[i]);
+    Vec2 v = this->V[i] + (dt / m) * this->F[i];
+    Vec2 d = dt * v;
+    const double limit = maxStep * this->Local[i];
+    const double length = norm(d);
+    if (length > limit)
+    {
+      d = (limit / length) * d;
+      v = (limit / length) * v;
+    }
+    const Vec2 to = this->X[i] + d;
+    if (guard && !guard->accept(static_cast<int>(i), this->X[i], to))
+    {
+      this->V[i] = Vec2{};
+      continue;
+    }
+    this->X[i] = to;
+    this->V[i] = v;
+    largest = std::max(largest, std::min(length, limit) / this->Local[i]);
+  }
+  return largest;
+}
+
+double SpringSystem::step(double dt, MoveGuard* guard)
+{
+  this->computeForces();
+  return this->integrate(dt, guard);
+}
+
+double SpringSystem::kineticEnergy() const
+{
+  double sum = 0.0;
+  for (std::size_t i = 0; i < this->X.size(); ++i)
+  {
+    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Fixed))
+    {
+      sum += 0.5 * this->Params.mass * norm2(this->V[i]);
+    }
+  }
+  return sum;
+}
+
+double SpringSystem::potentialEnergy() const
+{
+  double sum = 0.0;
+  for (const std::unique_ptr<SpringSet>& set : this->Sets)
+  {
+    sum += set->energy(this->Mesh, this->X, this->Params);
+  }
+  return sum;
+}
+
+void SpringSystem::flip(int edge, std::array<int, 2> newEdge, int t0, std::array<int, 3> n0,
+  int t1, std::array<int, 3> n1)
+{
+  this->Mesh.edges[edge] = { std::min(newEdge[0], newEdge[1]), std::max(newEdge[0], newEdge[1]) };
+  this->Mesh.triangles[t0] = n0;
+  this->Mesh.triangles[t1] = n1;
+  for (std::unique_ptr<SpringSet>& set : this->Sets)
+  {
+    set->flipped(this->Mesh, this->X, edge, t0, t1);
+  }
+}
+
+} // namespace strata

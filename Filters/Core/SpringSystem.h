@@ -1,0 +1,254 @@
+// StrataMesh core: a mass-spring particle system on a triangle mesh (paper Sections 6.1 and
+// 6.2). It computes spring forces and integrates particles; it knows nothing about why a
+// particle is pushed: callers mark particles as driven (moved by them) or fixed. No VTK.
+#ifndef StrataMeshCore_SpringSystem_h
+#define StrataMeshCore_SpringSystem_h
+
+#include "Geometry.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace strata
+{
+
+/// Spring configurations of paper Section 6.1 (more can be added as SpringSet subclasses).
+enum class SpringConfiguration : int
+{
+  EdgeOnly = 0,         ///< one Hooke spring per edge
+  EdgeAndProjection = 1 ///< plus one non-linear projection spring per triangle corner
+};
+
+/// Global coefficients of the springs and particles. All quantities are model-independent:
+/// forces are proportional to lengths, so with unit masses the motion of a mesh scaled by any
+/// factor is the same motion scaled; time is dimensionless (an undamped edge spring between
+/// two unit masses oscillates with period 2 pi / sqrt(2 stiffness)).
+struct SpringParams
+{
+  SpringConfiguration configuration = SpringConfiguration::EdgeAndProjection;
+  /// ks of both laws. Range (0, 1e3].
+  double stiffness = 1.0;
+  /// kd of the edge springs (damping of the relative velocity along the spring). Range
+  /// [0, 1e3].
+  double damping = 0.5;
+  /// Mass of every particle. Range (0, 1e6].
+  double mass = 1.0;
+  /// Largest displacement of a free particle in one step, as a fraction of its local length
+  /// (mean rest length of its edges). Bounds the jump a stiff, nearly collapsed projection
+  /// spring can cause in one explicit step. Range (0, 1].
+  double maxStep = 0.25;
+};
+
+/// The triangles the springs live on and their unique edges. Springs are indexed by edge and
+/// by triangle corner, so ids stay valid through edge flips (SpringSystem::flip).
+struct SpringMesh
+{
+  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise
+  std::vector<std::array<int, 2>> edges;     ///< each undirected edge once
+};
+
+/// Unique edges of a triangle list (sorted end points, ordered).
+std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles);
+
+/// Paper 6.1, edge spring (Hooke's law with damping): the force on end a of a spring with
+/// dx = xa - xb, dv = va - vb and rest length x0:
+///   F_a = -(ks (|dx| - x0) + kd (dv . dx) / |dx|) dx / |dx|,  F_b = -F_a.
+/// A stretched spring pulls its ends together; damping opposes the rate of stretching. Zero
+/// for |dx| = 0 (no direction).
+Vec2 edgeSpringForce(Vec2 dx, Vec2 dv, double restLength, double ks, double kd);
+
+/// Paper 6.1, projection (repulsion) spring between a vertex and its projection on the
+/// opposite edge, with dx = vertex - projection and rest length x0. The paper writes
+/// F = ks (|dx| - x0 / |dx|) dx / |dx|, whose rest point is |dx| = sqrt(x0) and depends on the
+/// units; measured in units of the rest length (r = |dx| / x0) the same law reads
+///   F_vertex = -ks x0 (r - 1 / r) dx / |dx|,
+/// which is at rest at r = 1, pulls back when stretched and grows without bound as r -> 0.
+/// Zero for |dx| = 0 or x0 <= 0.
+Vec2 projectionSpringForce(Vec2 dx, double restLength, double ks);
+
+/// Potential energies of the two laws (zero at rest).
+double edgeSpringEnergy(double length, double restLength, double ks);
+double projectionSpringEnergy(double length, double restLength, double ks);
+
+/// Closest point to p on segment ab: parameter t in [0, 1] (0 at a).
+double projectionParameter(Vec2 p, Vec2 a, Vec2 b);
+
+/// The particle state a spring set reads and the force array it adds to.
+struct ParticleState
+{
+  const Vec2* x = nullptr;
+  const Vec2* v = nullptr;
+  Vec2* f = nullptr;
+  /// Stiffness accumulator (may be null): each spring adds its current stiffness along its
+  /// direction (dF/dlength) to the particles it acts on, for the stable mass of step().
+  double* k = nullptr;
+};
+
+/// A set of springs defined on a SpringMesh. Subclass to add a configuration.
+class SpringSet
+{
+public:
+  virtual ~SpringSet() = default;
+  virtual const char* name() const = 0;
+  /// Rest lengths of every spring from the rest positions.
+  virtual void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) = 0;
+  /// After SpringSystem::flip: new rest lengths (the current ones) of the springs of edge
+  /// `edge` and of triangles t0 and t1.
+  virtual void flipped(
+    const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0, int t1) = 0;
+  /// Adds every spring's force to s.f.
+  virtual void addForces(
+    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const = 0;
+  /// Potential energy of all springs.
+  virtual double energy(
+    const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const = 0;
+};
+
+/// One Hooke spring per edge (paper 6.1).
+class EdgeSprings : public SpringSet
+{
+public:
+  const char* name() const override { return "edge"; }
+  void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
+  void flipped(const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0,
+    int t1) override;
+  void addForces(
+    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const override;
+  double energy(const SpringMesh& mesh, const std::vector<Vec2>& x,
+    const SpringParams& params) const override;
+
+private:
+  std::vector<double> Rest;
+};
+
+/// One projection spring per triangle corner (paper 6.1, Figure 8): the corner against an
+/// auxiliary particle at its projection on the opposite edge (clamped to the edge). The
+/// auxiliary particle exists only while the force is computed; its reaction goes to the
+/// edge's end points in proportion to the projection parameter (1 - t to the first, t to the
+/// second).
+class ProjectionSprings : public SpringSet
+{
+public:
+  const char* name() const override { return "projection"; }
+  void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
+  void flipped(const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0,
+    int t1) override;
+  void addForces(
+    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const override;
+  double energy(const SpringMesh& mesh, const std::vector<Vec2>& x,
+    const SpringParams& params) const override;
+
+private:
+  void restOf(const SpringMesh& mesh, const std::vector<Vec2>& x, int t);
+  std::vector<double> Rest; // 3 per triangle
+};
+
+/// How a particle is treated by SpringSystem::step.
+enum class ParticleKind : std::uint8_t
+{
+  Free,   ///< integrated from its spring forces
+  Driven, ///< moved by the caller (its force is computed, step() leaves it alone)
+  Fixed   ///< never moves
+};
+
+/// Lets a caller veto a particle's move (e.g. one that would invert a triangle).
+class MoveGuard
+{
+public:
+  virtual ~MoveGuard() = default;
+  /// Whether particle i may move from `from` to `to` (all other particles where they are now).
+  virtual bool accept(int i, Vec2 from, Vec2 to) = 0;
+};
+
+/// Particles (position, velocity, force, mass) on the vertices of a SpringMesh, with the spring
+/// sets of a configuration. Rest lengths are the lengths in the rest positions.
+///
+/// Integration: semi-implicit (symplectic) Euler, v += dt F(x, v) / m, then x += dt v. The
+/// paper's scheme (add the derivative vector (v, F / m) dt to the state) is explicit Euler,
+/// which multiplies the energy of an undamped spring by (1 + (w dt)^2) every step and so blows
+/// up without enough damping; symplectic Euler keeps the energy of an undamped oscillator
+/// bounded for w dt < 2 at the same cost (one force evaluation per step) and, with damping,
+/// decays it. With the defaults (ks = m = 1, dt = 0.1) w dt is about 0.3 at rest, but a
+/// projection spring compressed to a fraction r of its rest length is (1 + 1 / r^2) times
+/// stiffer, which would break that bound in the squeezed triangles compression produces. So
+/// each step uses for particle i the mass m_i = max(m, 2 dt^2 K_i), K_i the summed current
+/// stiffness of its springs (mass scaling, as in explicit finite elements): then
+/// w_i^2 <= 2 K_i / m_i <= 1 / dt^2, i.e. w_i dt <= 1 everywhere. Equilibria do not depend on
+/// the masses, so stiff spots just move slower; at rest nothing changes with the defaults.
+/// The step bound SpringParams::maxStep is a last safeguard.
+class SpringSystem
+{
+public:
+  /// Rest lengths from `rest` (same size as positions). Throws ParameterError for
+  /// parameters out of range, sizes that differ or indices out of range.
+  SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const std::vector<Vec2>& rest,
+    const SpringParams& params = {});
+  /// Rest lengths from the initial positions.
+  SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const SpringParams& params = {});
+
+  /// Adds a spring set (initialised from the rest positions given at construction).
+  void addSpringSet(std::unique_ptr<SpringSet> set);
+  std::size_t numberOfSpringSets() const { return this->Sets.size(); }
+
+  std::size_t numberOfParticles() const { return this->X.size(); }
+  const SpringParams& params() const { return this->Params; }
+  const SpringMesh& mesh() const { return this->Mesh; }
+
+  std::vector<Vec2>& positions() { return this->X; }
+  const std::vector<Vec2>& positions() const { return this->X; }
+  std::vector<Vec2>& velocities() { return this->V; }
+  const std::vector<Vec2>& velocities() const { return this->V; }
+  const std::vector<Vec2>& forces() const { return this->F; }
+  ParticleKind kind(int i) const { return static_cast<ParticleKind>(this->Kind[i]); }
+  void setKind(int i, ParticleKind kind) { this->Kind[i] = static_cast<std::uint8_t>(kind); }
+  /// Mean rest length of the particle's edges (1 for a particle without edges).
+  double localLength(int i) const { return this->Local[i]; }
+  /// Summed stiffness of the particle's springs at the last computeForces().
+  double stiffness(int i) const { return this->K[i]; }
+  /// The mass step(dt) uses for particle i: max(mass, 2 dt^2 stiffness(i)).
+  double stableMass(int i, double dt) const
+  {
+    return std::max(this->Params.mass, 2.0 * dt * dt * this->K[i]);
+  }
+
+  /// Phase 1: resets the force accumulators and adds the contribution of every spring.
+  void computeForces();
+  /// Phases 2 and 3 for the free particles: acceleration F / m_i, then v += dt a and
+  /// x += dt v (displacement clamped to maxStep local lengths). When `guard` rejects a move
+  /// the particle stays and its velocity is zeroed. Call computeForces() first. Returns the
+  /// largest displacement of a free particle divided by its local length.
+  double integrate(double dt, MoveGuard* guard = nullptr);
+  /// computeForces() then integrate().
+  double step(double dt, MoveGuard* guard = nullptr);
+
+  double kineticEnergy() const;
+  double potentialEnergy() const;
+
+  /// Replaces the edge `edge` shared by triangles t0 and t1 by newEdge and the triangles by
+  /// n0 and n1 (an edge flip done by the caller, who checked it); the springs of the edge and
+  /// of both triangles take their current lengths as rest lengths.
+  void flip(int edge, std::array<int, 2> newEdge, int t0, std::array<int, 3> n0, int t1,
+    std::array<int, 3> n1);
+
+private:
+  SpringParams Params;
+  SpringMesh Mesh;
+  std::vector<Vec2> X, V, F, Rest;
+  std::vector<double> K;
+  std::vector<std::uint8_t> Kind;
+  std::vector<double> Local;
+  std::vector<std::unique_ptr<SpringSet>> Sets;
+};
+
+/// The spring sets of a configuration (for SpringSystem::addSpringSet).
+std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration configuration);
+
+/// Validates params (ParameterError naming the parameter and its range).
+void validate(const SpringParams& params);
+
+} // namespace strata
+
+#endif

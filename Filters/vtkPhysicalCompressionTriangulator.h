@@ -1,0 +1,194 @@
+/**
+ * @class   vtkPhysicalCompressionTriangulator
+ * @brief   triangulates a multi-region polyline model by physical compression of a 4-8 grid
+ *
+ * StrataMesh's main filter, after Marroquim, Cavalcanti, Velho and Esperança,
+ * "Multi-Resolution Triangulations with Adaptation to the Domain Based on Physical
+ * Compression": an adaptive 4-8 grid refined toward the model's boundaries (Sections 2, 2.1)
+ * is classified with a strip-tree signed distance (Sections 3-5), then compressed onto the
+ * boundaries by a mass-spring particle system (Section 6): vertices next to a boundary are
+ * pushed onto it, slide along it as on rails, stop at sharp points, one vertex sits on every
+ * junction, degenerate triangles get their longest edge flipped, and every triangle is tagged
+ * with the region of its barycentre. An optional pass beyond the paper (Optimization) then
+ * flips edges and smooths vertices toward larger angles.
+ *
+ * Input: a vtkPolyData of line cells in either StrataMesh form (Loops with `RegionId`, or
+ * Shared curves with `LeftRegion`/`RightRegion`).
+ *
+ * Output port 0: a vtkUnstructuredGrid of counter-clockwise triangles (exterior dropped)
+ * with cell arrays `RegionId`, `MinimumAngle`, `MaximumAngle` (degrees), `RadiusRatio`
+ * (2 r / R, 1 for equilateral), `Area`, `Level` (4-8 level of origin); point arrays
+ * `VertexClass` (0 exterior, 1 boundary, 2 interior) and `Displacement` (from the grid
+ * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
+ * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
+ * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
+ * `MaxRegionAreaError` (relative), `Iterations` and `Seconds<Stage>` per stage.
+ *
+ * Output port 1: the approximated boundary (edges whose two triangles have different
+ * regions, and the outer border) as polylines in the Shared curves form, with cell arrays
+ * `LeftRegion` and `RightRegion`, so it can be fed back in as a model.
+ *
+ * @sa vtkAdaptive48Grid vtkClassify48Grid vtkPolylineSignedDistanceFilter
+ */
+#ifndef vtkPhysicalCompressionTriangulator_h
+#define vtkPhysicalCompressionTriangulator_h
+
+#include "StrataMeshFiltersModule.h" // for export macro
+#include "vtkStrataMeshAlgorithm.h"
+
+class vtkUnstructuredGrid;
+
+class STRATAMESHFILTERS_EXPORT vtkPhysicalCompressionTriangulator : public vtkStrataMeshAlgorithm
+{
+public:
+  static vtkPhysicalCompressionTriangulator* New();
+  vtkTypeMacro(vtkPhysicalCompressionTriangulator, vtkStrataMeshAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Spring configurations (paper Section 6.1).
+  enum SpringConfigurations
+  {
+    EDGE_SPRINGS = 0,
+    EDGE_AND_PROJECTION_SPRINGS = 1
+  };
+
+  /// Which vertices are pushed onto the boundary (paper Section 6.3).
+  enum PushCriteria
+  {
+    PUSH_ALL_CANDIDATES = 0,
+    PUSH_ONE_SIDE = 1,
+    PUSH_CLOSEST = 2
+  };
+
+  ///@{
+  /**
+   * The triangle mesh (output port 0). These hide vtkPolyDataAlgorithm::GetOutput, whose
+   * type is not this filter's output type.
+   */
+  vtkUnstructuredGrid* GetOutput();
+  vtkUnstructuredGrid* GetOutput(int port);
+  ///@}
+
+  /// The approximated boundary as Shared curves (output port 1).
+  vtkPolyData* GetBoundaryOutput();
+
+  ///@{
+  /**
+   * Springs: one per edge (EDGE_SPRINGS), or per edge plus one projection spring per
+   * triangle corner (EDGE_AND_PROJECTION_SPRINGS, default), which keeps triangles from
+   * collapsing.
+   */
+  vtkSetClampMacro(SpringConfiguration, int, EDGE_SPRINGS, EDGE_AND_PROJECTION_SPRINGS);
+  vtkGetMacro(SpringConfiguration, int);
+  ///@}
+
+  ///@{
+  /**
+   * Spring stiffness ks (dimensionless: forces are relative to edge lengths). Default 1;
+   * range (0, 1000].
+   */
+  vtkSetClampMacro(SpringStiffness, double, 1e-6, 1000.0);
+  vtkGetMacro(SpringStiffness, double);
+  ///@}
+
+  ///@{
+  /**
+   * Damping kd of the edge springs (dimensionless). Default 0.5; range [0, 1000].
+   */
+  vtkSetClampMacro(Damping, double, 0.0, 1000.0);
+  vtkGetMacro(Damping, double);
+  ///@}
+
+  ///@{
+  /**
+   * Duration of one simulation step (dimensionless time; an undamped spring's period is
+   * about 44 steps with the defaults). Default 0.1; range (0, 1].
+   */
+  vtkSetClampMacro(TimeStep, double, 1e-6, 1.0);
+  vtkGetMacro(TimeStep, double);
+  ///@}
+
+  ///@{
+  /**
+   * Most simulation steps; the simulation stops earlier when it has settled. Default 600;
+   * range [0, 1000000].
+   */
+  vtkSetClampMacro(MaxIterations, int, 0, 1000000);
+  vtkGetMacro(MaxIterations, int);
+  ///@}
+
+  ///@{
+  /**
+   * Which end points of the edges crossing a boundary are pushed onto it:
+   * PUSH_ALL_CANDIDATES, PUSH_ONE_SIDE (default: the exterior side of an outer boundary,
+   * one region's side between two regions) or PUSH_CLOSEST (the end closer to the boundary).
+   */
+  vtkSetClampMacro(PushCriterion, int, PUSH_ALL_CANDIDATES, PUSH_CLOSEST);
+  vtkGetMacro(PushCriterion, int);
+  ///@}
+
+  ///@{
+  /**
+   * Speed of pushed vertices, in local edge lengths per unit time. Default 0.5; range
+   * (0, 10].
+   */
+  vtkSetClampMacro(PushVelocity, double, 1e-6, 10.0);
+  vtkGetMacro(PushVelocity, double);
+  ///@}
+
+  ///@{
+  /**
+   * Degrees: a boundary point whose angle (180 = straight) is below this is a feature; a
+   * vertex sliding along the boundary stops there, so sharp corners are kept. Default 140;
+   * range [0, 180] (0: no features).
+   */
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
+  ///@}
+
+  ///@{
+  /**
+   * Flip the longest edge of collapsed or very small triangles (paper Section 6.5). Default
+   * on.
+   */
+  vtkSetMacro(FlipDegenerate, vtkTypeBool);
+  vtkGetMacro(FlipDegenerate, vtkTypeBool);
+  vtkBooleanMacro(FlipDegenerate, vtkTypeBool);
+  ///@}
+
+  ///@{
+  /**
+   * Beyond the paper: after the compression, flip edges and smooth vertices (boundary ones
+   * along their curve) toward larger minimum angles, never changing a triangle's region.
+   * Default on; off reproduces the paper's method.
+   */
+  vtkSetMacro(Optimization, vtkTypeBool);
+  vtkGetMacro(Optimization, vtkTypeBool);
+  vtkBooleanMacro(Optimization, vtkTypeBool);
+  ///@}
+
+protected:
+  vtkPhysicalCompressionTriangulator();
+  ~vtkPhysicalCompressionTriangulator() override;
+
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // Defaults come from the core's strata::CompressionParams (set in the constructor).
+  int SpringConfiguration;
+  double SpringStiffness;
+  double Damping;
+  double TimeStep;
+  int MaxIterations;
+  int PushCriterion;
+  double PushVelocity;
+  double FeatureAngle;
+  vtkTypeBool FlipDegenerate;
+  vtkTypeBool Optimization;
+
+private:
+  vtkPhysicalCompressionTriangulator(const vtkPhysicalCompressionTriangulator&) = delete;
+  void operator=(const vtkPhysicalCompressionTriangulator&) = delete;
+};
+
+#endif

@@ -1,0 +1,231 @@
+// vtkPhysicalCompressionTriangulator in real VTK pipelines: reader -> triangulator -> checks.
+#include "vtkPhysicalCompressionTriangulator.h"
+
+#include <vtkCallbackCommand.h>
+#include <vtkCellData.h>
+#include <vtkCommand.h>
+#include <vtkDataArray.h>
+#include <vtkFieldData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+namespace
+{
+
+vtkSmartPointer<vtkXMLPolyDataReader> Reader(const std::string& name)
+{
+  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+  reader->SetFileName((std::string(STRATAMESH_DATA_DIR) + "/" + name).c_str());
+  return reader;
+}
+
+struct Messages
+{
+  std::string errors, warnings;
+};
+
+vtkSmartPointer<vtkCallbackCommand> Watch(vtkObject* object, Messages& messages)
+{
+  auto log = vtkSmartPointer<vtkCallbackCommand>::New();
+  log->SetClientData(&messages);
+  log->SetCallback([](vtkObject*, unsigned long event, void* data, void* text)
+    {
+      auto* m = static_cast<Messages*>(data);
+      (event == vtkCommand::ErrorEvent ? m->errors : m->warnings) += static_cast<const char*>(text);
+    });
+  object->AddObserver(vtkCommand::ErrorEvent, log);
+  object->AddObserver(vtkCommand::WarningEvent, log);
+  return log;
+}
+
+double SignedArea(vtkUnstructuredGrid* grid, vtkIdType cell)
+{
+  vtkIdType npts = 0;
+  const vtkIdType* ids = nullptr;
+  grid->GetCellPoints(cell, npts, ids);
+  double a[3], b[3], c[3];
+  grid->GetPoint(ids[0], a);
+  grid->GetPoint(ids[1], b);
+  grid->GetPoint(ids[2], c);
+  return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+}
+
+} // namespace
+
+TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clockwise_triangles)
+{
+  auto reader = Reader("pinch_out.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  Messages messages;
+  auto log = Watch(mesher, messages);
+  mesher->Update();
+  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
+  vtkUnstructuredGrid* mesh = mesher->GetOutput();
+  ASSERT_NE(mesh, nullptr);
+  ASSERT_GT(mesh->GetNumberOfCells(), 100);
+
+  for (const char* name :
+    { "RegionId", "MinimumAngle", "MaximumAngle", "RadiusRatio", "Area", "Level" })
+  {
+    ASSERT_NE(mesh->GetCellData()->GetArray(name), nullptr) << name;
+  }
+  for (const char* name : { "VertexClass", "Displacement" })
+  {
+    ASSERT_NE(mesh->GetPointData()->GetArray(name), nullptr) << name;
+  }
+  vtkDataArray* region = mesh->GetCellData()->GetArray("RegionId");
+  vtkDataArray* area = mesh->GetCellData()->GetArray("Area");
+  vtkDataArray* minAngle = mesh->GetCellData()->GetArray("MinimumAngle");
+  std::map<int, double> regionArea;
+  double smallest = 180.0;
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    ASSERT_EQ(mesh->GetCellType(c), VTK_TRIANGLE);
+    const double a = SignedArea(mesh, c);
+    EXPECT_GT(a, 0.0) << "triangle " << c << " is not counter-clockwise";
+    EXPECT_NEAR(area->GetTuple1(c), a, 1e-9 * std::fabs(a) + 1e-12);
+    regionArea[static_cast<int>(region->GetTuple1(c))] += a;
+    smallest = std::min(smallest, minAngle->GetTuple1(c));
+  }
+  // pinch_out: three regions in a 1000 x 100 box; the wedge (region 1) pinches out.
+  EXPECT_EQ(regionArea.size(), 3u);
+  double total = 0.0;
+  for (const auto& [id, a] : regionArea)
+  {
+    EXPECT_GE(id, 0);
+    total += a;
+  }
+  EXPECT_NEAR(total, 1000.0 * 100.0, 0.02 * 1000.0 * 100.0);
+
+  vtkFieldData* fd = mesh->GetFieldData();
+  for (const char* name : { "NumberOfTriangles", "NumberOfVertices", "MinimumAngle",
+         "MaximumAngle", "PercentAngles30To60", "PercentTriangles30To60",
+         "MaxBoundaryDeviation", "Iterations", "SecondsTotal" })
+  {
+    ASSERT_NE(fd->GetArray(name), nullptr) << name;
+  }
+  EXPECT_EQ(fd->GetArray("NumberOfTriangles")->GetTuple1(0), mesh->GetNumberOfCells());
+  EXPECT_DOUBLE_EQ(fd->GetArray("MinimumAngle")->GetTuple1(0), smallest);
+}
+
+TEST(PhysicalCompressionTriangulatorTest, boundary_output_is_a_shared_curves_model_of_the_mesh)
+{
+  auto reader = Reader("salt_dome.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  mesher->SetMaxLevel(11);
+  mesher->Update();
+  vtkPolyData* boundary = mesher->GetBoundaryOutput();
+  ASSERT_NE(boundary, nullptr);
+  ASSERT_GT(boundary->GetNumberOfLines(), 0);
+  vtkDataArray* left = boundary->GetCellData()->GetArray("LeftRegion");
+  vtkDataArray* right = boundary->GetCellData()->GetArray("RightRegion");
+  ASSERT_TRUE(left && right);
+  std::set<int> regions;
+  for (vtkIdType c = 0; c < boundary->GetNumberOfCells(); ++c)
+  {
+    EXPECT_NE(left->GetTuple1(c), right->GetTuple1(c)) << "curve " << c;
+    regions.insert(static_cast<int>(left->GetTuple1(c)));
+    regions.insert(static_cast<int>(right->GetTuple1(c)));
+  }
+  EXPECT_EQ(regions.size(), 7u); // six regions and the exterior
+
+  // Fed back in, the approximated boundary is a valid model whose regions have the mesh's
+  // areas.
+  vtkNew<vtkPhysicalCompressionTriangulator> again;
+  again->SetInputData(boundary);
+  again->SetMaxLevel(11);
+  Messages messages;
+  auto log = Watch(again, messages);
+  again->Update();
+  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
+  EXPECT_GT(again->GetOutput()->GetNumberOfCells(), 0);
+}
+
+TEST(PhysicalCompressionTriangulatorTest, bad_inputs_fail_with_an_error_naming_the_defect)
+{
+  const std::pair<const char*, const char*> cases[] = {
+    { "bad_inputs/nan_coordinate.vtp", "point 5" },
+    { "bad_inputs/unclosed_boundary_shared.vtp", "dangling" },
+    { "bad_inputs/no_region_array.vtp", "region array" },
+  };
+  for (const auto& [file, needle] : cases)
+  {
+    auto reader = Reader(file);
+    vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+    mesher->SetInputConnection(reader->GetOutputPort());
+    Messages messages;
+    auto log = Watch(mesher, messages);
+    mesher->Update();
+    EXPECT_NE(messages.errors.find(needle), std::string::npos) << file << ": " << messages.errors;
+    EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0) << file;
+  }
+}
+
+TEST(PhysicalCompressionTriangulatorTest, empty_model_gives_empty_outputs_and_a_warning)
+{
+  auto reader = Reader("bad_inputs/empty.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  Messages messages;
+  auto log = Watch(mesher, messages);
+  mesher->Update();
+  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
+  EXPECT_FALSE(messages.warnings.empty());
+  EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
+  EXPECT_EQ(mesher->GetBoundaryOutput()->GetNumberOfCells(), 0);
+}
+
+TEST(PhysicalCompressionTriangulatorTest, abort_stops_the_request_early)
+{
+  auto reader = Reader("gulf_section.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  vtkNew<vtkCallbackCommand> abort;
+  abort->SetCallback([](vtkObject* caller, unsigned long, void*, void* progress)
+    {
+      if (*static_cast<double*>(progress) > 0.3)
+      {
+        static_cast<vtkAlgorithm*>(caller)->SetAbortExecuteAndUpdateTime();
+      }
+    });
+  mesher->AddObserver(vtkCommand::ProgressEvent, abort);
+  Messages messages;
+  auto log = Watch(mesher, messages);
+  mesher->Update();
+  EXPECT_NE(messages.errors.find("aborted"), std::string::npos) << messages.errors;
+  EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
+}
+
+TEST(PhysicalCompressionTriangulatorTest, binary_vtu_round_trips_through_debian_readers)
+{
+  auto reader = Reader("touching_loops.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  mesher->Update();
+  const std::string file = testing::TempDir() + "touching_loops_mesh.vtu";
+  vtkNew<vtkXMLUnstructuredGridWriter> writer;
+  writer->SetInputConnection(mesher->GetOutputPort());
+  writer->SetDataModeToBinary();
+  writer->SetFileName(file.c_str());
+  ASSERT_EQ(writer->Write(), 1);
+  vtkNew<vtkXMLUnstructuredGridReader> back;
+  back->SetFileName(file.c_str());
+  back->Update();
+  EXPECT_EQ(back->GetOutput()->GetNumberOfCells(), mesher->GetOutput()->GetNumberOfCells());
+  EXPECT_NE(back->GetOutput()->GetCellData()->GetArray("RegionId"), nullptr);
+}

@@ -1,0 +1,75 @@
+"""PhysicalCompressionTriangulation as pvpython users call it."""
+import sys
+import unittest
+
+sys.path.insert(0, __file__.rsplit("/", 1)[0])
+import stratamesh_testing as st  # noqa: E402
+from paraview import simple, servermanager  # noqa: E402
+from vtkmodules.numpy_interface import dataset_adapter as dsa  # noqa: E402
+import numpy as np  # noqa: E402
+
+NS = {}
+st.load_plugin(NS)
+Triangulation = NS["PhysicalCompressionTriangulation"]
+
+
+def signed_areas(mesh):
+    pts = np.asarray(mesh.Points)[:, :2]
+    cells = np.asarray(mesh.Cells).reshape(-1, 4)[:, 1:]
+    a, b, c = pts[cells[:, 0]], pts[cells[:, 1]], pts[cells[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+class TriangulationTest(unittest.TestCase):
+    def test_properties_have_the_documented_defaults_and_names(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
+        mesh = Triangulation(Input=model)
+        self.assertEqual(mesh.MaxLevel, -1)
+        self.assertEqual(mesh.LocalMaxLevel, -1)
+        self.assertEqual(mesh.SpringConfiguration, "Edge and projection springs")
+        self.assertEqual(mesh.PushCriterion, "One side of the boundary")
+        self.assertEqual(mesh.FlipDegenerate, 1)
+        self.assertEqual(mesh.Optimization, 1)
+        self.assertAlmostEqual(mesh.FeatureAngle, 140.0)
+        for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
+                     "Tolerance", "Form", "RegionArrayName"):
+            self.assertTrue(hasattr(mesh, name), name)
+
+    def test_meshes_a_shared_curves_model_conserving_region_areas(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("salt_dome_loops.vtp")])
+        mesh = Triangulation(Input=model, MaxLevel=11)
+        out = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        areas = signed_areas(out)
+        self.assertTrue((areas > 0).all(), "every triangle counter-clockwise")
+        region = np.asarray(out.CellData["RegionId"])
+        self.assertEqual(set(np.unique(region)), set(range(6)))
+        np.testing.assert_allclose(np.asarray(out.CellData["Area"]), areas, rtol=1e-9)
+        # The salt dome section is a 12000 x 6000 box: the regions fill it.
+        self.assertAlmostEqual(areas.sum() / (12000.0 * 6000.0), 1.0, delta=0.02)
+        for name in ("MinimumAngle", "MaximumAngle", "RadiusRatio", "Level"):
+            self.assertIn(name, out.CellData.keys())
+        for name in ("VertexClass", "Displacement"):
+            self.assertIn(name, out.PointData.keys())
+        self.assertGreater(out.FieldData["MinimumAngle"][0], 0.0)
+
+    def test_boundary_port_gives_shared_curves(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
+        mesh = Triangulation(Input=model)
+        boundary = dsa.WrapDataObject(servermanager.Fetch(mesh, idx=1))
+        left = np.asarray(boundary.CellData["LeftRegion"])
+        right = np.asarray(boundary.CellData["RightRegion"])
+        self.assertGreater(len(left), 0)
+        self.assertTrue((left != right).all())
+        self.assertEqual(set(np.unique(np.concatenate([left, right]))), {-1, 0, 1, 2})
+
+    def test_out_of_range_values_are_refused_naming_the_property(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
+        mesh = Triangulation(Input=model)
+        with self.assertRaises(ValueError) as raised:
+            mesh.PushCriterion = "Nowhere"
+        self.assertIn("Nowhere", str(raised.exception))
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    sys.exit(0 if result.wasSuccessful() else 1)
