@@ -2,50 +2,65 @@
 //
 // Structure
 // ---------
-// The segments keep the order they were given in. A node covers a run [first, last] of them;
-// its central segment goes from the first vertex of the run (a[first]) to the last one
-// (b[last]), its width is the largest distance of any vertex of the run (both ends of every
-// segment, since runs need not be connected) from the central segment, and its box is the
-// bounding box of the run. The root covers all segments; a node's children cover the halves
-// [first, mid] and [mid + 1, last] with mid = first + (last - first) / 2; a leaf covers one
-// segment. The 2n - 1 nodes live in one flat array, root first. The two children of a node are
-// adjacent (one expansion reads one contiguous pair), and the left child's subtree is laid out
-// before the right child's, so the pair of children of a node whose own pair starts at D and
-// whose left child covers L segments is at D + 2 (left) and D + 2 L (right): the query can
-// prefetch two levels ahead without reading anything. Construction is top-down with an
-// explicit stack; each node scans its run once for its box and width: O(n log n), about
-// 0.15 s for 1e6 segments.
+// The segments keep the order they were given in. A node covers a run of them and its strip
+// is a rectangle containing every vertex of the run (both ends of every segment, since runs
+// need not be connected): in the paper's strip trees it is aligned with the central segment,
+// from the first vertex of the run to the last one; here the axis-aligned bounding box is used
+// instead when it has a smaller area (the central segment of a whole ring has length 0). A
+// strip is stored as its centre o, its axis u and its half extents hx (along u) and hy (along
+// the normal (-u.y, u.x)), in doubles (single precision was tried: the axis rounding loosens
+// every bound by ~1e-7 of the distance, which makes queries far from the curve 10x slower).
 //
-// The width is inflated by 1e-12 of itself and of the node's box diagonal, far above the
-// rounding error of the bound computations below, so that rounding can never make a bound
-// exceed the true distance (a point exactly on a segment must find distance 0).
+// The tree is complete and implicit: node ids are breadth-first (root 1, children of i at 2 i
+// and 2 i + 1), and the nodes of depth d split [0, n) evenly: node j of depth d (id 2^d + j)
+// covers [j n / 2^d, (j + 1) n / 2^d) (integer division), so nothing but the strips is stored.
+// Depth is the smallest depth whose runs have at most kBucket segments; the nodes of that depth
+// are buckets, scanned, never split (the binary tree down to single segments, 2n - 1 nodes, is
+// what numberOfNodes() reports). The strips of the two children of node i are stored side by
+// side in Pairs[i] (96 bytes, lanes 0 and 1), so that one expansion reads one contiguous pair
+// and computes both bounds with two-wide SSE2 arithmetic; the pairs of the grandchildren of i
+// are Pairs[2 i] and Pairs[2 i + 1], adjacent, prefetched when i is expanded. For 1e6 segments:
+// Depth 17, 2^17 pairs, 12.6 MB (the previous node-per-segment layout took 176 MB).
+// Construction scans each node's run three times (frame choice, centre, extents): O(n Depth),
+// about 0.1 s for 1e6 segments.
+//
+// Exactness of the bounds. The query maps p to a strip's frame, m(p) = ((p - o).u,
+// (p - o) x u), and takes the distance from m(p) to [-hx, hx] x [-hy, hy]. u has length
+// kAxisScale = 1 - 1e-13 (up to rounding), so m shortens every distance by that factor, while
+// rounding moves the computed m(p) by a few ulps of |p - o| only (differences of doubles are
+// correctly rounded): the shortening (450 ulps of the distance) covers the rounding of the
+// part of |p - o| that is the distance to the run, and the half extents are computed with the
+// query's own arithmetic and then inflated by 1e-12 of themselves and of the run's box
+// diagonal, which covers the rest. Hence a key never exceeds the true squared distance to any
+// segment of the run (a point exactly on a segment finds distance 0); the test suite checks
+// it against brute force.
 //
 // Query
 // -----
-// Every vertex of a run lies within `width` of the central segment, so the whole run lies in
-// the stadium (Minkowski sum of the central segment and a disk of radius `width`), which is
-// convex. Hence for every segment s of the run, dist(p, s) >= dist(p, stadium)
-// = max(0, dist(p, central) - width), and also dist(p, s) >= dist(p, box). The key of a node
-// is the square of the larger of the two lower bounds.
+// Every vertex of a run lies in its strip, which is convex, so the whole run does: for every
+// segment s of the run, dist(p, s) >= dist(p, strip), and the key of a node is the square of
+// that lower bound, computed without division or square root.
 //
-// Best-first search with a binary min-heap of (key, node) in the caller's scratch (cleared,
-// never shrunk: no allocation once warm). Expanding a node looks at its two children: a child
-// covering at most kScanRun segments is not pushed but scanned at once, segment by segment,
-// with the exact distance (the paper stops when it pops a leaf, whose key is its exact
-// distance; computing the exact distances of the leaves when they would be pushed is the same
-// search with fewer heap operations), unless its box is not nearer than the best distance so
-// far. Other children get their key and are kept only if it is below the best squared
-// distance found so far, best2 (pruning). When the smallest key in the heap is not below
-// best2, no open node can hold a closer segment: best2 is exact and the search stops. The
-// result is the minimum of pointSegmentDistance2 (Geometry.h) over all segments, as a
-// brute-force scan finds it, up to ties between segments whose distances agree to rounding.
+// Best-first search with a binary min-heap of (key, node id) in the caller's scratch (cleared,
+// never shrunk: no allocation once warm). Expanding a node computes the keys of its two
+// children; children that are buckets are not pushed but scanned at once, segment by segment,
+// with the exact distance, unless their key is not below the best squared distance so far,
+// best2 (the paper stops when it pops a leaf, whose key is its exact distance; computing the
+// exact distances of the leaves when they would be pushed is the same search with fewer heap
+// operations). Other children are kept only if their key is below best2 (pruning). When the
+// smallest key in the heap is not below best2, no open node can hold a closer segment: best2
+// is exact and the search stops. The result is the minimum of pointSegmentDistance2
+// (Geometry.h) over all segments, as a brute-force scan finds it, up to ties between segments
+// whose distances agree to rounding. A NaN coordinate gives NaN keys, which nothing keeps.
 //
 // Two refinements keep it fast (see Testing/Benchmark/bench_distance.cxx): a first dive from the
-// root follows the child with the smaller key down to the leaves without using the heap, so that
-// best2 is tight at once and the siblings passed on the way enter the heap only if their key is
-// still below it; and a child whose key is not above the heap's smallest is expanded at once
-// instead of being pushed and popped. The arithmetic is branch-free where the outcome is
+// root follows the child with the smaller key down to the buckets without using the heap, so
+// that best2 is tight at once and the siblings passed on the way enter the heap only if their
+// key is still below it; and a child whose key is not above the heap's smallest is expanded at
+// once instead of being pushed and popped. The arithmetic is branch-free where the outcome is
 // unpredictable (SSE2 min, max and selects; a mispredicted branch costs as much as a bound).
+// About 28 expansions and 18 segment distances per query for 1e6 segments (points uniform in
+// the curve's box).
 #include "StripTree.h"
 
 #include "Errors.h"
@@ -66,9 +81,6 @@ namespace strata
 namespace
 {
 
-// Runs of at most this many segments are scanned exactly instead of being descended.
-constexpr int kScanRun = 8;
-
 // Branch-free min, max and select. Compilers often turn std::max(x, 0.0) followed by a
 // multiplication into a conditional jump, which mispredicts about half the time in the
 // searches below; the SSE2 forms are single instructions.
@@ -88,11 +100,6 @@ inline double minOf(double a, double b)
 #else
   return std::min(a, b);
 #endif
-}
-
-inline double positivePart(double x)
-{
-  return maxOf(x, 0.0);
 }
 
 inline double clamp01(double x)
@@ -138,31 +145,73 @@ inline double segmentDistance2Exact(Vec2 p, Vec2 a, Vec2 b, double& t)
   return norm2(p - q);
 }
 
-// Squared distance from p to segment c0-c1 without branches. Used only for bounds: its
-// rounding error, a few ulps of |p - c0| + |c1 - c0|, is far below the slack added to the
-// widths.
-inline double segmentDistance2(Vec2 p, Vec2 c0, Vec2 c1)
+// The children of a node: either buckets (scanned) or stored nodes (bounded, pushed).
+// Buckets hold at most this many segments.
+constexpr int kBucket = 8;
+
+// Length of the strips' axes: just below 1, so that with rounding the map from the plane to a
+// strip's frame never lengthens a distance (see the top of the file).
+constexpr double kAxisScale = 1.0 - 1e-13;
+
+inline void prefetch(const void* address)
 {
-  const Vec2 ab = c1 - c0;
-  const Vec2 ap = p - c0;
-  const double len2 = norm2(ab) + std::numeric_limits<double>::min();
-  const double t = clamp01(dot(ap, ab) / len2);
-  return norm2(ap - t * ab);
+#if defined(__GNUC__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
 }
 
-// Squared distance from p to box b (0 inside).
-inline double boxDistance2(const Box2& b, Vec2 p)
+// Depth of a node from its breadth-first id (root 1).
+inline int depthOf(int id)
 {
-  const double dx = positivePart(std::max(b.min.x - p.x, p.x - b.max.x));
-  const double dy = positivePart(std::max(b.min.y - p.y, p.y - b.max.y));
-  return dx * dx + dy * dy;
+#if defined(__GNUC__)
+  return 31 - __builtin_clz(static_cast<unsigned>(id));
+#else
+  int d = 0;
+  while (id > 1)
+  {
+    id >>= 1;
+    ++d;
+  }
+  return d;
+#endif
 }
 
-// Squared lower bound of the distance from p to the stadium of half-width w around c0-c1.
-inline double stadiumBound2(Vec2 p, Vec2 c0, Vec2 c1, double w)
+// Squared distances from p to the strips of both children of a pair (lower bounds of the
+// squared distance to their segments): in each strip's frame, the distance to the rectangle
+// [-hx, hx] x [-hy, hy]. NaN coordinates give NaN keys, which no comparison keeps.
+template<class Pair>
+inline void stripBounds2(const Pair& pair, Vec2 p, double key[2])
 {
-  const double d = positivePart(std::sqrt(segmentDistance2(p, c0, c1)) - w);
-  return d * d;
+#if defined(__SSE2__)
+  const __m128d rx = _mm_sub_pd(_mm_set1_pd(p.x), _mm_load_pd(pair.ox));
+  const __m128d ry = _mm_sub_pd(_mm_set1_pd(p.y), _mm_load_pd(pair.oy));
+  const __m128d ux = _mm_load_pd(pair.ux);
+  const __m128d uy = _mm_load_pd(pair.uy);
+  const __m128d along = _mm_add_pd(_mm_mul_pd(rx, ux), _mm_mul_pd(ry, uy));
+  const __m128d across = _mm_sub_pd(_mm_mul_pd(ry, ux), _mm_mul_pd(rx, uy));
+  const __m128d sign = _mm_set1_pd(-0.0);
+  const __m128d zero = _mm_setzero_pd();
+  // max(0, x) returns x when x is NaN.
+  const __m128d dx = _mm_max_pd(zero, _mm_sub_pd(_mm_andnot_pd(sign, along), _mm_load_pd(pair.hx)));
+  const __m128d dy =
+    _mm_max_pd(zero, _mm_sub_pd(_mm_andnot_pd(sign, across), _mm_load_pd(pair.hy)));
+  _mm_storeu_pd(key, _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)));
+#else
+  for (int k = 0; k < 2; ++k)
+  {
+    const double rx = p.x - pair.ox[k];
+    const double ry = p.y - pair.oy[k];
+    const double along = rx * pair.ux[k] + ry * pair.uy[k];
+    const double across = ry * pair.ux[k] - rx * pair.uy[k];
+    double dx = std::abs(along) - pair.hx[k];
+    double dy = std::abs(across) - pair.hy[k];
+    dx = dx < 0.0 ? 0.0 : dx; // NaN stays NaN
+    dy = dy < 0.0 ? 0.0 : dy;
+    key[k] = dx * dx + dy * dy;
+  }
+#endif
 }
 
 // Min-heap on the key only (ties in any order).
@@ -241,110 +290,141 @@ StripTree::StripTree(std::vector<Vec2> a, std::vector<Vec2> b)
   {
     return;
   }
-  this->Nodes.reserve(2 * this->A.size() - 1);
-  this->build(0, static_cast<int>(this->A.size()) - 1);
+  this->build();
 }
 
-// Builds the tree over [first, last] into the reserved node array and returns the root's
-// index (0). Top-down with an explicit stack: a node's two children are allocated together
-// (siblings are adjacent in memory, so an expansion reads one contiguous pair) and the left
-// subtree is laid out before the right one. Each node scans its run once for its box and
-// width: O(n log n) in total.
-int StripTree::build(int first, int last)
+// Chooses Depth, the smallest with buckets of at most kBucket segments, and computes the
+// strip of every node below the root, level by level. Each node scans its run twice (choice
+// of the frame, then the extents about the chosen centre): O(n Depth).
+void StripTree::build()
 {
-  struct Pending
+  const std::int64_t n = static_cast<std::int64_t>(this->A.size());
+  this->Depth = 0;
+  while (((n - 1) >> this->Depth) + 1 > kBucket)
   {
-    int node, first, last;
-  };
-  std::vector<Pending> stack;
-  stack.reserve(128);
-  const int root = static_cast<int>(this->Nodes.size());
-  this->Nodes.emplace_back();
-  stack.push_back({ root, first, last });
+    ++this->Depth;
+  }
+  if (this->Depth == 0)
+  {
+    return;
+  }
+  this->Pairs.assign(std::size_t(1) << this->Depth, ChildPair{});
   const Vec2* a = this->A.data();
   const Vec2* b = this->B.data();
-  while (!stack.empty())
+  for (int d = 1; d <= this->Depth; ++d)
   {
-    const Pending job = stack.back();
-    stack.pop_back();
-    Node& n = this->Nodes[job.node];
-    n.first = job.first;
-    n.last = job.last;
-    n.c0 = a[job.first];
-    n.c1 = b[job.last];
-    n.left = n.right = -1;
+    const std::int64_t count = std::int64_t(1) << d;
+    for (std::int64_t j = 0; j < count; ++j)
+    {
+      const int first = static_cast<int>((j * n) >> d);
+      const int end = static_cast<int>(((j + 1) * n) >> d);
 
-    // Box and width: the largest distance of the run's vertices (both ends of every segment)
-    // from the central segment; squared distances, one square root at the end.
-    const Vec2 c0 = n.c0;
-    const Vec2 c1 = n.c1;
-    const Vec2 ab = c1 - c0;
-    const double len2 = norm2(ab);
-    const double inv = len2 > 0.0 ? 1.0 / len2 : 0.0;
-    auto vertex2 = [&](Vec2 v)
-    {
-      const Vec2 ap = v - c0;
-      const double s = dot(ap, ab);
-      if (s <= 0.0)
+      Box2 box;
+      for (int i = first; i < end; ++i)
       {
-        return norm2(ap);
+        box.add(a[i]);
+        box.add(b[i]);
       }
-      if (s >= len2)
+      const double diagonal = box.diagonal();
+      // Axis: the central segment's direction when it is not negligible, shortened so that
+      // rounding can never lengthen it to 1 (see the top of the file).
+      const Vec2 c0 = a[first];
+      const Vec2 chord = b[end - 1] - c0;
+      const double chordLength = norm(chord);
+      Vec2 u{ kAxisScale, 0.0 };
+      if (chordLength > 1e-9 * diagonal && chordLength > 0.0)
       {
-        return norm2(v - c1);
+        // Extents of the run in the central segment's frame; keep it unless the axis-aligned
+        // box is smaller.
+        const Vec2 v = (kAxisScale / chordLength) * chord;
+        double lo0 = HUGE_VAL, hi0 = -HUGE_VAL, lo1 = HUGE_VAL, hi1 = -HUGE_VAL;
+        auto extend = [&](Vec2 q)
+        {
+          const Vec2 r = q - c0;
+          const double along = r.x * v.x + r.y * v.y;
+          const double across = r.y * v.x - r.x * v.y;
+          lo0 = std::min(lo0, along);
+          hi0 = std::max(hi0, along);
+          lo1 = std::min(lo1, across);
+          hi1 = std::max(hi1, across);
+        };
+        for (int i = first; i < end; ++i)
+        {
+          extend(a[i]);
+          extend(b[i]);
+        }
+        if ((hi0 - lo0) * (hi1 - lo1) < box.width() * box.height())
+        {
+          u = v;
+        }
       }
-      const double c = cross(ab, ap);
-      return c * c * inv;
-    };
-    double w2 = 0.0;
-    Box2 box;
-    for (int i = job.first; i <= job.last; ++i)
-    {
-      box.add(a[i]);
-      box.add(b[i]);
-      w2 = std::max({ w2, vertex2(a[i]), vertex2(b[i]) });
+      // Centre of the strip, then its half extents about it, computed as the query does.
+      Vec2 o = box.center();
+      if (u.y != 0.0)
+      {
+        double lo0 = HUGE_VAL, hi0 = -HUGE_VAL, lo1 = HUGE_VAL, hi1 = -HUGE_VAL;
+        for (int i = first; i < end; ++i)
+        {
+          for (const Vec2 q : { a[i], b[i] })
+          {
+            const Vec2 r = q - c0;
+            const double along = r.x * u.x + r.y * u.y;
+            const double across = r.y * u.x - r.x * u.y;
+            lo0 = std::min(lo0, along);
+            hi0 = std::max(hi0, along);
+            lo1 = std::min(lo1, across);
+            hi1 = std::max(hi1, across);
+          }
+        }
+        // u has length kAxisScale and its normal is (-u.y, u.x).
+        const double s = 0.5 / (kAxisScale * kAxisScale);
+        const double ma = (lo0 + hi0) * s;
+        const double mc = (lo1 + hi1) * s;
+        o = Vec2{ c0.x + ma * u.x - mc * u.y, c0.y + ma * u.y + mc * u.x };
+      }
+      double hx = 0.0, hy = 0.0;
+      for (int i = first; i < end; ++i)
+      {
+        for (const Vec2 q : { a[i], b[i] })
+        {
+          const double rx = q.x - o.x;
+          const double ry = q.y - o.y;
+          hx = std::max(hx, std::abs(rx * u.x + ry * u.y));
+          hy = std::max(hy, std::abs(ry * u.x - rx * u.y));
+        }
+      }
+      // Slack against rounding (see the top of the file).
+      const double slack = 1e-12 * diagonal;
+      const std::int64_t id = count + j;
+      ChildPair& pair = this->Pairs[static_cast<std::size_t>(id >> 1)];
+      const int lane = static_cast<int>(id & 1);
+      pair.ox[lane] = o.x;
+      pair.oy[lane] = o.y;
+      pair.ux[lane] = u.x;
+      pair.uy[lane] = u.y;
+      pair.hx[lane] = hx * (1.0 + 1e-12) + slack;
+      pair.hy[lane] = hy * (1.0 + 1e-12) + slack;
     }
-    n.box = box;
-    // Slack against rounding (see the top of the file).
-    n.width = std::sqrt(w2) * (1.0 + 1e-12) + 1e-12 * box.diagonal();
-    if (job.first == job.last)
-    {
-      continue; // a leaf: its central segment is the segment itself
-    }
-    const int mid = job.first + (job.last - job.first) / 2;
-    const int left = static_cast<int>(this->Nodes.size());
-    n.left = left;
-    n.right = left + 1;
-    this->Nodes.emplace_back(); // reserved: no reallocation, n stays valid (unused below)
-    this->Nodes.emplace_back();
-    stack.push_back({ left + 1, mid + 1, job.last });
-    stack.push_back({ left, job.first, mid });
   }
-  return root;
-}
-
-double StripTree::lowerBound2(const Node& n, Vec2 p) const
-{
-  return maxOf(boxDistance2(n.box, p), stadiumBound2(p, n.c0, n.c1, n.width));
 }
 
 NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
 {
   NearestSegment best;
-  if (this->Nodes.empty())
+  const std::int64_t n = static_cast<std::int64_t>(this->A.size());
+  if (n == 0)
   {
     return best;
   }
   const Vec2* a = this->A.data();
   const Vec2* b = this->B.data();
-  const Node* nodes = this->Nodes.data();
 
   double best2 = HUGE_VAL;
   int bestSeg = -1;
   double bestT = 0.0;
-  auto scan = [&](int first, int last)
+  auto scan = [&](int first, int end)
   {
-    for (int i = first; i <= last; ++i)
+    for (int i = first; i < end; ++i)
     {
       double t;
       const double d2 = segmentDistance2Exact(p, a[i], b[i], t);
@@ -354,96 +434,81 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
       best2 = minOf(d2, best2);
     }
   };
-
-  const Node& root = nodes[0];
-  if (root.last - root.first < kScanRun)
+  auto finish = [&]()
   {
-    scan(root.first, root.last);
     best.segment = bestSeg;
     best.distance2 = best2;
     best.t = bestT;
     return best;
-  }
+  };
 
-  // The key of an internal node (lowerBound2, inlined).
-  auto key2 = [p](const Node& n)
-  { return maxOf(boxDistance2(n.box, p), stadiumBound2(p, n.c0, n.c1, n.width)); };
-
-  // Expands node n: scans its child runs of at most kScanRun segments (unless the child's box
-  // is not nearer than best2) and returns its other children with their keys in
-  // open[0..count), the smaller key first, all below best2.
-  auto expand = [&](const Node& n, HeapEntry open[2])
+  const int depth = this->Depth;
+  if (depth == 0)
   {
-    const int mid = n.first + (n.last - n.first) / 2;
-    const int leftLength = mid - n.first + 1;
-    const int rightLength = n.last - mid;
-    const Node* children = nodes + n.left; // siblings are adjacent
-#if defined(__GNUC__)
-    // Near the leaves, nodes are no longer in the caches. Request the next two levels of
-    // descendants now, so that their memory latency overlaps with this expansion. Their
-    // position follows from the layout without reading the children: the pair of children
-    // of a node whose own pair is at D and whose left child covers L segments is at D + 2 for
-    // the left child and at D + 2 * L for the right child.
-    auto fetchPair = [](const Node* pair)
+    scan(0, static_cast<int>(n));
+    return finish();
+  }
+  const ChildPair* pairs = this->Pairs.data();
+  // First segment of the run of node id (depth d): the runs of depth d split [0, n) evenly.
+  auto runFirst = [n](std::int64_t j, int d) { return static_cast<int>((j * n) >> d); };
+
+  // Expands node id of depth d: computes the bounds of its two children; scans the children
+  // that are buckets unless their bound is not below best2 (the nearer one first), and returns
+  // the others with their keys in open[0..count), the smaller key first, all below best2.
+  auto expand = [&](int id, int d, HeapEntry open[2])
+  {
+    const ChildPair& pair = pairs[id];
+    if (d + 2 <= depth)
     {
-      const char* q = reinterpret_cast<const char*>(pair);
-      __builtin_prefetch(q);
-      __builtin_prefetch(q + 64);
-      __builtin_prefetch(q + 128);
-    };
-    auto fetchBelow = [&](const Node* pair, int length)
-    {
-      fetchPair(pair);
-      const int left = (length - 1) / 2 + 1;
-      if (left > kScanRun)
-      {
-        fetchPair(pair + 2);
-      }
-      if (length - left > kScanRun)
-      {
-        fetchPair(pair + 2 * left);
-      }
-    };
-    if (leftLength > kScanRun)
-    {
-      fetchBelow(children + 2, leftLength);
+      // The children's pairs, adjacent: request them now so that their memory latency
+      // overlaps with this expansion and the next.
+      const char* q = reinterpret_cast<const char*>(pairs + 2 * id);
+      prefetch(q);
+      prefetch(q + 64);
+      prefetch(q + 128);
     }
-    if (rightLength > kScanRun)
+    double key[2];
+    stripBounds2(pair, p, key);
+    if (d + 1 == depth)
     {
-      fetchBelow(children + 2 * leftLength, rightLength);
+      const std::int64_t j = 2 * (id - (std::int64_t(1) << d));
+      const int first = runFirst(j, d + 1);
+      const int mid = runFirst(j + 1, d + 1);
+      const int end = runFirst(j + 2, d + 1);
+      if (key[1] < key[0])
+      {
+        if (key[1] < best2)
+        {
+          scan(mid, end);
+        }
+        if (key[0] < best2)
+        {
+          scan(first, mid);
+        }
+      }
+      else
+      {
+        if (key[0] < best2)
+        {
+          scan(first, mid);
+        }
+        if (key[1] < best2)
+        {
+          scan(mid, end);
+        }
+      }
+      return 0;
     }
-#endif
     int count = 0;
-    if (leftLength <= kScanRun)
+    const bool swap = key[1] < key[0];
+    const int near = swap ? 1 : 0;
+    if (key[near] < best2)
     {
-      if (boxDistance2(children[0].box, p) < best2)
+      open[count++] = HeapEntry(key[near], 2 * id + near);
+      if (key[1 - near] < best2)
       {
-        scan(n.first, mid);
+        open[count++] = HeapEntry(key[1 - near], 2 * id + 1 - near);
       }
-    }
-    else
-    {
-      open[count++] = HeapEntry(key2(children[0]), n.left);
-    }
-    if (rightLength <= kScanRun)
-    {
-      if (boxDistance2(children[1].box, p) < best2)
-      {
-        scan(mid + 1, n.last);
-      }
-    }
-    else
-    {
-      open[count++] = HeapEntry(key2(children[1]), n.left + 1);
-    }
-    if (count == 2 && open[1].first < open[0].first)
-    {
-      std::swap(open[0], open[1]);
-    }
-    // A scan may have lowered best2 after a key was computed.
-    while (count > 0 && open[count - 1].first >= best2)
-    {
-      --count;
     }
     return count;
   };
@@ -451,17 +516,18 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
   std::vector<HeapEntry>& heap = scratch.heap;
   heap.clear();
 
-  // Dive: from the root, follow the child with the smaller key down to the short runs, to get
-  // a tight best2 at once. The siblings left behind are kept aside and enter the heap only if
+  // Dive: from the root, follow the child with the smaller key down to the buckets, to get a
+  // tight best2 at once. The siblings left behind are kept aside and enter the heap only if
   // their key is below best2 once the dive is over, so that the heap stays small.
   double asideKey[2 * sizeof(int) * 8]; // at most one per level (not initialised: no cost)
   int asideNode[2 * sizeof(int) * 8];
   int asideCount = 0;
-  int current = 0;
+  int current = 1;
+  int d = 0;
   for (;;)
   {
     HeapEntry open[2];
-    const int count = expand(nodes[current], open);
+    const int count = expand(current, d, open);
     if (count == 0)
     {
       break;
@@ -472,6 +538,7 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
       asideNode[asideCount++] = open[1].second;
     }
     current = open[0].second;
+    ++d;
   }
   for (int k = 0; k < asideCount; ++k)
   {
@@ -492,10 +559,11 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
       break;
     }
     current = top.second;
+    d = depthOf(current);
     for (;;)
     {
       HeapEntry open[2];
-      const int count = expand(nodes[current], open);
+      const int count = expand(current, d, open);
       if (count > 0 && (heap.empty() || open[0].first <= heap.front().first))
       {
         if (count == 2)
@@ -503,6 +571,7 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
           heapPush(heap, open[1].first, open[1].second);
         }
         current = open[0].second;
+        ++d;
         continue;
       }
       for (int k = 0; k < count; ++k)
@@ -512,10 +581,7 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
       break;
     }
   }
-  best.segment = bestSeg;
-  best.distance2 = best2;
-  best.t = bestT;
-  return best;
+  return finish();
 }
 
 } // namespace strata

@@ -14,9 +14,9 @@ namespace strata
 /// Result of a nearest-segment query.
 struct NearestSegment
 {
-  int segment = -1;          ///< index of the closest segment (-1 for an empty tree)
+  int segment = -1;            ///< index of the closest segment (-1 for an empty tree)
   double distance2 = HUGE_VAL; ///< squared distance to it
-  double t = 0.0;            ///< parameter of the closest point on it (0 at its first vertex)
+  double t = 0.0;              ///< parameter of the closest point on it (0 at its first vertex)
 };
 
 /// Scratch memory of a query (the heap); reuse one per thread so queries do not allocate.
@@ -26,11 +26,12 @@ struct StripTreeScratch
 };
 
 /// A binary strip tree over segments given as pairs of points. Consecutive segments (in the
-/// order given) are grouped: each node covers a run [first, last] of segments, stores the
-/// central segment from the run's first vertex to its last vertex and the largest distance
-/// of the run's vertices from it; children hold the two halves. Runs need not be connected
-/// (rings of one region follow each other): the bound stays valid because the strip around
-/// the central segment is convex and contains every vertex of the run.
+/// order given) are grouped: each node covers a run [first, last] of segments and stores its
+/// strip, a rectangle aligned with the central segment from the run's first vertex to its
+/// last vertex (or with the axes when that is smaller) containing every vertex of the run;
+/// children hold the two halves. Runs need not be connected (rings of one region follow each
+/// other): the bound stays valid because the strip is convex and contains every vertex of the
+/// run.
 class StripTree
 {
 public:
@@ -46,25 +47,30 @@ public:
   /// grown to its working size.
   NearestSegment nearest(Vec2 p, StripTreeScratch& scratch) const;
 
-  /// Number of nodes (for tests and memory reports).
-  std::size_t numberOfNodes() const { return this->Nodes.size(); }
+  /// Number of nodes of the binary tree down to single segments: 2 n - 1 for n > 0 segments
+  /// (for tests and reports). Only the upper levels are stored, about 12 bytes per segment:
+  /// runs of at most 8 segments are buckets, scanned (see StripTree.cpp).
+  std::size_t numberOfNodes() const { return this->A.empty() ? 0 : 2 * this->A.size() - 1; }
 
 private:
-  struct Node
+  // The bounds of the two children of a stored node, side by side (lane 0: the left child,
+  // lane 1: the right one) so that an expansion computes both at once. A child's bound is an
+  // oriented rectangle: centre o, unit axis u (shortened by 1e-13, see StripTree.cpp) and half
+  // extents h along u and along its normal.
+  struct alignas(32) ChildPair
   {
-    Vec2 c0, c1;        // central segment
-    double width = 0.0; // max distance of the run's vertices from the central segment
-    Box2 box;           // bounding box of the run
-    int first = 0;      // first segment of the run
-    int last = 0;       // last segment of the run (inclusive)
-    int left = -1;      // child nodes, -1 for a leaf
-    int right = -1;
+    double ox[2], oy[2];
+    double ux[2], uy[2];
+    double hx[2], hy[2];
   };
-  int build(int first, int last);
-  double lowerBound2(const Node& n, Vec2 p) const;
+  void build();
 
   std::vector<Vec2> A, B;
-  std::vector<Node> Nodes;
+  // Node ids in breadth-first order: the root is 1, the children of i are 2 i and 2 i + 1.
+  // Pairs[i] holds the bounds of the children of node i (Pairs[0] is unused); the nodes of
+  // depth Depth are buckets of at most kBucket segments, scanned, never split.
+  std::vector<ChildPair> Pairs;
+  int Depth = 0;
 };
 
 } // namespace strata

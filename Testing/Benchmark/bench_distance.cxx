@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -94,10 +95,23 @@ const Curve& flower()
   return curve;
 }
 
-void stripTreeQueries(benchmark::State& state, const Curve& curve)
+void stripTreeQueries(benchmark::State& state, const Curve& curve, double farFactor = 0.0)
 {
   const strata::StripTree tree(curve.a, curve.b);
-  const std::vector<Vec2> points = queryPoints(curve.box);
+  std::vector<Vec2> points = queryPoints(curve.box);
+  if (farFactor > 0.0)
+  {
+    // Moved away from the box centre by farFactor box sizes (bounds then differ by a tiny
+    // fraction of the distance: a test of their precision).
+    const Vec2 c = curve.box.center();
+    const double size = std::max(curve.box.width(), curve.box.height());
+    for (Vec2& p : points)
+    {
+      const Vec2 v = p - c;
+      const double len = std::sqrt(v.x * v.x + v.y * v.y);
+      p = len > 0.0 ? c + (farFactor * size / len) * v : p;
+    }
+  }
   strata::StripTreeScratch scratch;
   std::size_t i = 0;
   for (auto _ : state)
@@ -143,6 +157,13 @@ void BM_StripTree_Flower1e6(benchmark::State& state)
   stripTreeQueries(state, flower());
 }
 BENCHMARK(BM_StripTree_Flower1e6);
+
+// Points 1e4 curve sizes away from the curve's centre.
+void BM_StripTree_Flower1e6_Far(benchmark::State& state)
+{
+  stripTreeQueries(state, flower(), 1e4);
+}
+BENCHMARK(BM_StripTree_Flower1e6_Far);
 
 void BM_BruteForce_Flower1e6(benchmark::State& state)
 {

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Remakes the README's pictures in Documentation/ from the bundled models (after a build).
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bash "$here/scripts/build.sh"
+build="${STRATAMESH_BUILD_DIR:-$here/build}"
+plugin="$(find "$build" -name StrataMesh.so | head -n 1)"
+xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$here/scripts/pictures.py" \
+  --plugin "$plugin" --data "$here/Data" --out "$here/Documentation"
