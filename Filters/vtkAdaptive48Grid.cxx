@@ -2,6 +2,7 @@
 
 #include "vtkStrataMeshInput.h"
 #include "vtkStrataMeshOutput.h"
+#include "vtkStrataMeshRange.h"
 
 #include "GridSession.h"
 
@@ -82,6 +83,10 @@ int vtkAdaptive48Grid::RequestData(
     vtkErrorMacro(<< "missing input or output");
     return 0;
   }
+  if (!this->CheckProperties())
+  {
+    return 0;
+  }
   std::shared_ptr<strata::GridSession> session;
   strata::TriangleMesh mesh;
   try
@@ -118,6 +123,13 @@ int vtkAdaptive48Grid::RequestData(
     fd, "GridMemoryBytes", static_cast<double>(session->grid().memoryBytes()));
   this->UpdateProgress(1.0);
   return 1;
+}
+
+bool vtkAdaptive48Grid::CheckProperties()
+{
+  bool valid = this->Superclass::CheckProperties();
+  valid &= vtkStrataMeshRange::Check(this, "OutputLevel", this->OutputLevel, -1, 60);
+  return valid;
 }
 
 void vtkAdaptive48Grid::PrintSelf(ostream& os, vtkIndent indent)

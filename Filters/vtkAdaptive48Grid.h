@@ -52,9 +52,10 @@ public:
   ///@{
   /**
    * Level of the output mesh: -1 (default) for the finest (all leaves); otherwise the nested
-   * conforming mesh of that level (coarser levels of the same hierarchy). Range [-1, 60].
+   * conforming mesh of that level (coarser levels of the same hierarchy). Range [-1, 60]
+   * (not clamped: a value out of range fails the update with an error naming it).
    */
-  vtkSetClampMacro(OutputLevel, int, -1, 60);
+  vtkSetMacro(OutputLevel, int);
   vtkGetMacro(OutputLevel, int);
   ///@}
 
@@ -64,6 +65,7 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool CheckProperties() override;
 
   /// The session for this input and these parameters, reused when possible (throws what the
   /// core throws, after dropping the session). Shared with vtkClassify48Grid.

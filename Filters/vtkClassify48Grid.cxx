@@ -1,6 +1,7 @@
 #include "vtkClassify48Grid.h"
 
 #include "vtkStrataMeshOutput.h"
+#include "vtkStrataMeshRange.h"
 
 #include "GridSession.h"
 
@@ -15,6 +16,7 @@
 #include <vtkUnstructuredGrid.h>
 
 #include <exception>
+#include <limits>
 
 vtkStandardNewMacro(vtkClassify48Grid);
 
@@ -45,6 +47,10 @@ int vtkClassify48Grid::RequestData(
   if (!input || !grid || !edges)
   {
     vtkErrorMacro(<< "missing input or output");
+    return 0;
+  }
+  if (!this->CheckProperties())
+  {
     return 0;
   }
   std::shared_ptr<strata::GridSession> session;
@@ -109,6 +115,14 @@ int vtkClassify48Grid::RequestData(
     vtkStrataMeshOutput::MakeArray("EdgeRegion", classes.edgeRegion));
   this->UpdateProgress(1.0);
   return 1;
+}
+
+bool vtkClassify48Grid::CheckProperties()
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  bool valid = this->Superclass::CheckProperties();
+  valid &= vtkStrataMeshRange::Check(this, "BoundaryTolerance", this->BoundaryTolerance, 0.0, inf);
+  return valid;
 }
 
 void vtkClassify48Grid::PrintSelf(ostream& os, vtkIndent indent)

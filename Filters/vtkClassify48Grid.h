@@ -38,9 +38,10 @@ public:
   /**
    * A vertex within this distance (model units) of a boundary is a boundary vertex, and an
    * edge that comes this close to a boundary is an intersection edge. 0 (default) is
-   * automatic: 1e-6 of the grid's shortest edge.
+   * automatic: 1e-6 of the grid's shortest edge. Range [0, inf) (finite; not clamped: a value
+   * out of range fails the update with an error naming it).
    */
-  vtkSetClampMacro(BoundaryTolerance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(BoundaryTolerance, double);
   vtkGetMacro(BoundaryTolerance, double);
   ///@}
 
@@ -50,6 +51,7 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool CheckProperties() override;
 
   double BoundaryTolerance = 0.0;
 

@@ -2,6 +2,7 @@
 
 #include "vtkStrataMeshInput.h"
 #include "vtkStrataMeshOutput.h"
+#include "vtkStrataMeshRange.h"
 
 #include "Mesher.h"
 
@@ -124,6 +125,10 @@ int vtkPhysicalCompressionTriangulator::RequestData(
     vtkErrorMacro(<< "missing input or output");
     return 0;
   }
+  if (!this->CheckProperties())
+  {
+    return 0;
+  }
 
   strata::MesherParams params;
   params.grid.maxLevel = this->MaxLevel;
@@ -206,6 +211,21 @@ int vtkPhysicalCompressionTriangulator::RequestData(
   SetBoundary(boundary, result);
   this->UpdateProgress(1.0);
   return 1;
+}
+
+bool vtkPhysicalCompressionTriangulator::CheckProperties()
+{
+  using Range = vtkStrataMeshRange;
+  bool valid = this->Superclass::CheckProperties();
+  valid &= Range::Check(this, "SpringConfiguration", this->SpringConfiguration, 0, 1);
+  valid &= Range::Check(this, "SpringStiffness", this->SpringStiffness, 0.0, 1e3, Range::OPEN);
+  valid &= Range::Check(this, "Damping", this->Damping, 0.0, 1e3);
+  valid &= Range::Check(this, "TimeStep", this->TimeStep, 0.0, 1.0, Range::OPEN);
+  valid &= Range::Check(this, "MaxIterations", this->MaxIterations, 0, 1000000);
+  valid &= Range::Check(this, "PushCriterion", this->PushCriterion, 0, 2);
+  valid &= Range::Check(this, "PushVelocity", this->PushVelocity, 0.0, 10.0, Range::OPEN);
+  valid &= Range::Check(this, "FeatureAngle", this->FeatureAngle, 0.0, 180.0);
+  return valid;
 }
 
 void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent)

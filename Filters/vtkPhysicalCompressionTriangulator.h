@@ -28,6 +28,11 @@
  * regions, and the outer border) as polylines in the Shared curves form, with cell arrays
  * `LeftRegion` and `RightRegion`, so it can be fed back in as a model.
  *
+ * Every numeric property has a documented range. The setters keep the value given (no
+ * clamping); an update with a value out of range fails with an error naming the property,
+ * its value and the range (e.g. `SpringStiffness = 0 is out of range (0, 1000]`) and leaves
+ * the outputs empty.
+ *
  * @sa vtkAdaptive48Grid vtkClassify48Grid vtkPolylineSignedDistanceFilter
  */
 #ifndef vtkPhysicalCompressionTriangulator_h
@@ -76,9 +81,9 @@ public:
   /**
    * Springs: one per edge (EDGE_SPRINGS), or per edge plus one projection spring per
    * triangle corner (EDGE_AND_PROJECTION_SPRINGS, default), which keeps triangles from
-   * collapsing.
+   * collapsing. Range [0, 1].
    */
-  vtkSetClampMacro(SpringConfiguration, int, EDGE_SPRINGS, EDGE_AND_PROJECTION_SPRINGS);
+  vtkSetMacro(SpringConfiguration, int);
   vtkGetMacro(SpringConfiguration, int);
   ///@}
 
@@ -87,7 +92,7 @@ public:
    * Spring stiffness ks (dimensionless: forces are relative to edge lengths). Default 1;
    * range (0, 1000].
    */
-  vtkSetClampMacro(SpringStiffness, double, 1e-6, 1000.0);
+  vtkSetMacro(SpringStiffness, double);
   vtkGetMacro(SpringStiffness, double);
   ///@}
 
@@ -95,7 +100,7 @@ public:
   /**
    * Damping kd of the edge springs (dimensionless). Default 0.5; range [0, 1000].
    */
-  vtkSetClampMacro(Damping, double, 0.0, 1000.0);
+  vtkSetMacro(Damping, double);
   vtkGetMacro(Damping, double);
   ///@}
 
@@ -104,7 +109,7 @@ public:
    * Duration of one simulation step (dimensionless time; an undamped spring's period is
    * about 44 steps with the defaults). Default 0.1; range (0, 1].
    */
-  vtkSetClampMacro(TimeStep, double, 1e-6, 1.0);
+  vtkSetMacro(TimeStep, double);
   vtkGetMacro(TimeStep, double);
   ///@}
 
@@ -113,7 +118,7 @@ public:
    * Most simulation steps; the simulation stops earlier when it has settled. Default 600;
    * range [0, 1000000].
    */
-  vtkSetClampMacro(MaxIterations, int, 0, 1000000);
+  vtkSetMacro(MaxIterations, int);
   vtkGetMacro(MaxIterations, int);
   ///@}
 
@@ -122,8 +127,9 @@ public:
    * Which end points of the edges crossing a boundary are pushed onto it:
    * PUSH_ALL_CANDIDATES, PUSH_ONE_SIDE (default: the exterior side of an outer boundary,
    * one region's side between two regions) or PUSH_CLOSEST (the end closer to the boundary).
+   * Range [0, 2].
    */
-  vtkSetClampMacro(PushCriterion, int, PUSH_ALL_CANDIDATES, PUSH_CLOSEST);
+  vtkSetMacro(PushCriterion, int);
   vtkGetMacro(PushCriterion, int);
   ///@}
 
@@ -132,7 +138,7 @@ public:
    * Speed of pushed vertices, in local edge lengths per unit time. Default 0.5; range
    * (0, 10].
    */
-  vtkSetClampMacro(PushVelocity, double, 1e-6, 10.0);
+  vtkSetMacro(PushVelocity, double);
   vtkGetMacro(PushVelocity, double);
   ///@}
 
@@ -142,7 +148,7 @@ public:
    * vertex sliding along the boundary stops there, so sharp corners are kept. Default 140;
    * range [0, 180] (0: no features).
    */
-  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkSetMacro(FeatureAngle, double);
   vtkGetMacro(FeatureAngle, double);
   ///@}
 
@@ -173,6 +179,7 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  bool CheckProperties() override;
 
   // Defaults come from the core's strata::CompressionParams (set in the constructor).
   int SpringConfiguration;

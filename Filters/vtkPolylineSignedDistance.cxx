@@ -1,6 +1,7 @@
 #include "vtkPolylineSignedDistance.h"
 
 #include "vtkStrataMeshInput.h"
+#include "vtkStrataMeshRange.h"
 
 #include "DistanceField.h"
 
@@ -82,6 +83,11 @@ bool vtkPolylineSignedDistance::UpdateModel()
   this->Internal->BuiltTime = t;
   this->Internal->Field.reset();
   if (!this->Internal->Model)
+  {
+    return false;
+  }
+  const bool validForm = vtkStrataMeshRange::Check(this, "Form", this->Form, 0, 2);
+  if (!vtkStrataMeshRange::Check(this, "Region", this->Region, -1, VTK_INT_MAX) || !validForm)
   {
     return false;
   }

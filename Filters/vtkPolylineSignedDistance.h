@@ -18,8 +18,9 @@
  * differences with a step of 1e-7 of the model's size.
  *
  * The model is read when it is set (SetModel) and again whenever it is modified. An invalid
- * model is reported through vtkErrorMacro and the function then evaluates to NaN. Thread
- * safe for evaluation (as vtkSampleFunction does it).
+ * model, or a Region or Form out of range (the setters do not clamp), is reported through
+ * vtkErrorMacro and the function then evaluates to NaN. Thread safe for evaluation (as
+ * vtkSampleFunction does it).
  *
  * @sa vtkPolylineSignedDistanceFilter vtkSampleFunction vtkImplicitFunction
  */
@@ -55,19 +56,20 @@ public:
   ///@{
   /**
    * Region whose signed distance is evaluated; -1 (default) means any region: the distance to
-   * the boundary of the containing region, negative outside all regions.
+   * the boundary of the containing region, negative outside all regions. Range [-1, max int];
+   * a region the model does not have is an error too.
    */
-  vtkSetClampMacro(Region, int, -1, VTK_INT_MAX);
+  vtkSetMacro(Region, int);
   vtkGetMacro(Region, int);
   ///@}
 
   ///@{
   /**
    * Input form of the model: 0 Auto (default: Shared curves when both label arrays exist,
-   * else Loops), 1 Loops, 2 Shared curves; and the names of the label arrays (defaults
-   * `RegionId`, `LeftRegion`, `RightRegion`).
+   * else Loops), 1 Loops, 2 Shared curves (range [0, 2]); and the names of the label arrays
+   * (defaults `RegionId`, `LeftRegion`, `RightRegion`).
    */
-  vtkSetClampMacro(Form, int, 0, 2);
+  vtkSetMacro(Form, int);
   vtkGetMacro(Form, int);
   vtkSetStringMacro(RegionArrayName);
   vtkGetStringMacro(RegionArrayName);

@@ -1,6 +1,7 @@
 #include "vtkPolylineSignedDistanceFilter.h"
 
 #include "vtkStrataMeshInput.h"
+#include "vtkStrataMeshRange.h"
 
 #include "SignedDistance.h"
 
@@ -17,6 +18,7 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 
 #include <exception>
+#include <string>
 
 vtkStandardNewMacro(vtkPolylineSignedDistanceFilter);
 
@@ -70,18 +72,15 @@ vtkDataSet* vtkPolylineSignedDistanceFilter::GetProbe(vtkInformationVector** inp
   return probe == source ? nullptr : probe;
 }
 
-bool vtkPolylineSignedDistanceFilter::ValidSampleDimensions()
+bool vtkPolylineSignedDistanceFilter::CheckProperties(bool sampling)
 {
-  for (int axis = 0; axis < 2; ++axis)
+  bool valid = vtkStrataMeshRange::Check(this, "Form", this->Form, 0, 2);
+  for (int axis = 0; sampling && axis < 2; ++axis)
   {
-    if (this->SampleDimensions[axis] < 2 || this->SampleDimensions[axis] > 16384)
-    {
-      vtkErrorMacro(<< "SampleDimensions[" << axis << "] = " << this->SampleDimensions[axis]
-                    << " is out of range: it must be in [2, 16384]");
-      return false;
-    }
+    const std::string name = "SampleDimensions[" + std::to_string(axis) + "]";
+    valid &= vtkStrataMeshRange::Check(this, name.c_str(), this->SampleDimensions[axis], 2, 16384);
   }
-  return true;
+  return valid;
 }
 
 int vtkPolylineSignedDistanceFilter::RequestDataObject(
@@ -122,7 +121,7 @@ int vtkPolylineSignedDistanceFilter::RequestInformation(
     return 1;
   }
   // The image's extent is known before the data; its origin and spacing come with the data.
-  if (!this->ValidSampleDimensions())
+  if (!this->CheckProperties(true))
   {
     return 0;
   }
@@ -157,6 +156,11 @@ int vtkPolylineSignedDistanceFilter::RequestData(
     vtkErrorMacro(<< "the polyline model (input 1, Source) is missing");
     return 0;
   }
+  if (!this->CheckProperties(probe == nullptr))
+  {
+    output->Initialize();
+    return 0;
+  }
 
   // Points to sample: the probe's, or an image over the model's padded bounds.
   if (probe)
@@ -165,10 +169,6 @@ int vtkPolylineSignedDistanceFilter::RequestData(
   }
   else
   {
-    if (!this->ValidSampleDimensions())
-    {
-      return 0;
-    }
     vtkImageData* image = vtkImageData::SafeDownCast(output);
     double bounds[6];
     source->GetBounds(bounds);

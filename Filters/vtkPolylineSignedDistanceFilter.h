@@ -21,6 +21,10 @@
  * an error naming the cell, point or location at fault; repairs (duplicate points,
  * zero-length cells) are reported as warnings. An empty model gives an empty output.
  *
+ * Property ranges are checked when the filter executes, not clamped by the setters: a value
+ * out of range fails the request with an error naming the property, its value and the range
+ * (e.g. `Form = 3 is out of range [0, 2]`).
+ *
  * @sa vtkPolylineSignedDistance vtkPhysicalCompressionTriangulator
  */
 #ifndef vtkPolylineSignedDistanceFilter_h
@@ -49,9 +53,9 @@ public:
   ///@{
   /**
    * Input form of the model: 0 Auto (default: Shared curves when both label arrays exist,
-   * else Loops), 1 Loops, 2 Shared curves.
+   * else Loops), 1 Loops, 2 Shared curves. Range [0, 2].
    */
-  vtkSetClampMacro(Form, int, 0, 2);
+  vtkSetMacro(Form, int);
   vtkGetMacro(Form, int);
   ///@}
 
@@ -99,7 +103,9 @@ private:
 
   /// The dataset to probe, or nullptr when an image is to be sampled.
   static vtkDataSet* GetProbe(vtkInformationVector** inputVector);
-  bool ValidSampleDimensions();
+  /// Checks Form, and SampleDimensions when an image is sampled, reporting each value out of
+  /// range (vtkErrorMacro); returns whether all are valid.
+  bool CheckProperties(bool sampling);
 };
 
 #endif

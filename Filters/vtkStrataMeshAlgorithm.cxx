@@ -1,5 +1,9 @@
 #include "vtkStrataMeshAlgorithm.h"
 
+#include "vtkStrataMeshRange.h"
+
+#include <limits>
+
 vtkStrataMeshAlgorithm::vtkStrataMeshAlgorithm()
 {
   this->SetRegionArrayName("RegionId");
@@ -22,6 +26,28 @@ std::function<bool(double, const char*)> vtkStrataMeshAlgorithm::ProgressCallbac
     this->UpdateProgress(fraction);
     return !this->CheckAbort();
   };
+}
+
+bool vtkStrataMeshAlgorithm::CheckProperties()
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  bool valid = vtkStrataMeshRange::Check(this, "Form", this->Form, 0, 2);
+  valid &= vtkStrataMeshRange::Check(this, "MaxLevel", this->MaxLevel, -1, 60);
+  if (vtkStrataMeshRange::Check(this, "LocalMaxLevel", this->LocalMaxLevel, -1, 60))
+  {
+    if (this->LocalMaxLevel != -1 && this->MaxLevel != -1 && this->LocalMaxLevel < this->MaxLevel)
+    {
+      vtkErrorMacro(<< "LocalMaxLevel = " << this->LocalMaxLevel << " is below MaxLevel = "
+                    << this->MaxLevel << ": it must be -1 (automatic) or in [MaxLevel, 60]");
+      valid = false;
+    }
+  }
+  else
+  {
+    valid = false;
+  }
+  valid &= vtkStrataMeshRange::Check(this, "Tolerance", this->Tolerance, 0.0, inf);
+  return valid;
 }
 
 void vtkStrataMeshAlgorithm::PrintSelf(ostream& os, vtkIndent indent)

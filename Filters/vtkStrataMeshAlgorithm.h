@@ -9,6 +9,10 @@
  * cells with region arrays (Loops: `RegionId`; Shared curves: `LeftRegion`/`RightRegion`).
  * Subclasses choose their outputs.
  *
+ * Property ranges: the setters keep the value given, even out of its documented range (they
+ * do not clamp); the next update then fails with an error that names the property, its value
+ * and the range, e.g. `MaxLevel = 99 is out of range [-1, 60]`, and produces empty outputs.
+ *
  * @sa vtkAdaptive48Grid vtkClassify48Grid vtkPolylineSignedDistanceFilter
  */
 #ifndef vtkStrataMeshAlgorithm_h
@@ -28,9 +32,9 @@ public:
   ///@{
   /**
    * Input form of the model: 0 Auto (default: Shared curves when both label arrays exist,
-   * else Loops), 1 Loops, 2 Shared curves.
+   * else Loops), 1 Loops, 2 Shared curves. Range [0, 2].
    */
-  vtkSetClampMacro(Form, int, 0, 2);
+  vtkSetMacro(Form, int);
   vtkGetMacro(Form, int);
   ///@}
 
@@ -54,7 +58,7 @@ public:
    * the level whose hypotenuse is about four median boundary segments long, in [10, 20].
    * Range [-1, 60].
    */
-  vtkSetClampMacro(MaxLevel, int, -1, 60);
+  vtkSetMacro(MaxLevel, int);
   vtkGetMacro(MaxLevel, int);
   ///@}
 
@@ -62,10 +66,10 @@ public:
   /**
    * Local refinement level (paper Section 2.1, and thin regions): triangles holding two or
    * more model vertices, or crossed by two or more boundary curves, or by one curve twice,
-   * are bisected up to this level. -1 (default) is MaxLevel + 4. Range [-1, 60]; when set it
-   * must not be below MaxLevel.
+   * are bisected up to this level. -1 (default) is MaxLevel + 4. Range [-1, 60]; when both are
+   * set it must not be below MaxLevel.
    */
-  vtkSetClampMacro(LocalMaxLevel, int, -1, 60);
+  vtkSetMacro(LocalMaxLevel, int);
   vtkGetMacro(LocalMaxLevel, int);
   ///@}
 
@@ -73,9 +77,9 @@ public:
   /**
    * Global criterion tolerance (model units): an edge whose midpoint is closer than this to
    * the boundary is not bisected further. 0 (default) is automatic: 1e-3 of the hypotenuse
-   * of a MaxLevel triangle.
+   * of a MaxLevel triangle. Range [0, inf) (finite).
    */
-  vtkSetClampMacro(Tolerance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkSetMacro(Tolerance, double);
   vtkGetMacro(Tolerance, double);
   ///@}
 
@@ -85,6 +89,11 @@ protected:
 
   /// Progress and abort wiring for the core: UpdateProgress, and false once CheckAbort().
   std::function<bool(double, const char*)> ProgressCallback();
+
+  /// Checks every property against its documented range, reports each one out of range
+  /// (vtkErrorMacro: "<Property> = <value> is out of range [<min>, <max>]") and returns
+  /// whether all are valid. RequestData calls it first; subclasses add their properties.
+  virtual bool CheckProperties();
 
   int Form = 0;
   char* RegionArrayName = nullptr;

@@ -4,50 +4,73 @@
 // The algorithm
 // -------------
 // 0. Rails. The model's boundary becomes chains of segments between junctions (nodes where
-//    the number of boundary segments is not two); closed chains have no junction. Chain points
-//    whose angle is below featureAngle are features. One strip tree over all segments gives
-//    the exact closest boundary point of any point (segment + parameter).
-// 1. Candidates and push (6.3). Candidates are the end points of intersection edges. The push
-//    criterion picks the vertices to push: all candidates; one side (OneSide: the exterior end
-//    of an edge between a region and the exterior, the end in the region of larger id between
-//    two regions, the end closer to the boundary when both ends lie in one region); or the end
-//    closer to the boundary. A pushed vertex's target is its closest boundary point; it moves
-//    straight toward it at pushVelocity, ignoring all forces, until it arrives. Vertices that
-//    the classification found on a boundary are pushed too (they arrive in one step).
+//    the number of boundary segments is not two); closed chains have none. Chain points whose
+//    angle is below featureAngle are features. One strip tree over all segments gives the
+//    exact closest boundary point of any point (segment + parameter).
+// 1. Candidates and push criterion (6.3). Candidates are the end points of intersection
+//    edges. AllCandidates pushes both ends of each; OneSide the exterior end of an edge between
+//    a region and the exterior, the end in the region of larger id between two regions, the
+//    closer end when both ends lie in one region (a thin feature crosses the edge); Closest
+//    the end closer to the boundary. Vertices the classification found on a boundary are
+//    pushed too (they arrive in one step). A pushed vertex's target is its closest boundary
+//    point; it moves straight toward it at pushVelocity, ignoring all forces.
 // 2. Junctions (6.4). Each junction gets exactly one vertex: the nearest candidate whose move
 //    onto the junction keeps its triangles valid is snapped there before the simulation and
 //    pinned; if none can move, the nearest one is pushed toward the junction and pinned on
-//    arrival.
+//    arrival. A junction or feature point takes one vertex: other targets within 0.3 h of a
+//    taken point, or within h / 4 of another target on the same chain, are moved half an edge
+//    length along the chain (h = local edge length).
 // 3. Simulated zone. Vertices within activeRings edge rings of a candidate or junction vertex
-//    are simulated (the domain border never is); the triangles around them form a sub-mesh
-//    with local flat arrays (triangles, neighbours across each edge, spring edge ids, a
-//    vertex -> triangles table); every other vertex keeps its grid position.
-// 4. Simulation (6.1, 6.2). A SpringSystem on the sub-mesh: edge springs and (by default)
-//    projection springs with rest lengths from the grid positions; simulated vertices are
-//    free particles, pushed and arrived ones are driven, the halo is fixed. Every step:
-//    forces; free particles by semi-implicit Euler; pushed vertices one push step; once
-//    every push is over (arrived or stuck for 30 steps), arrived vertices slide on their rail
-//    (6.4): their velocity along the chain integrates the tangential force, the move follows
-//    the polyline, and passing over a feature point stops them there for good. Every move of
-//    any kind passes the restrain test (6.3): each triangle around the vertex must stay
-//    counter-clockwise with at least 2% of its rest area (or not shrink if already below), so
-//    no triangle ever inverts. Every flipInterval steps, triangles with less than 10% of their
-//    rest area or an angle below 10 degrees get their longest edge flipped when the flip is
-//    valid, improves the pair's smallest angle and keeps the region of the surrounding faces
-//    (6.5). The loop stops after maxIterations or when every push is over and nothing moved
-//    by 1e-3 h in 10 steps.
-// 5. Faces (Section 5). Each triangle of the sub-mesh gets the region of its barycentre
-//    (DistanceField::query); the others keep the classification's region (they did not move).
-// 6. Optimization (beyond the paper, optional). (a) Snap: every vertex on the region boundary
-//    (an edge between faces of different regions) that is not on a curve moves to its
-//    closest boundary point if the restrain test allows, in halving steps otherwise. (b)
-//    Flips: an edge between two faces of one region is flipped when both new triangles are
-//    valid, keep that region (barycentres) and the pair's smallest angle grows. (c)
-//    Smoothing: a free vertex moves to the centroid of its neighbours (or half-way) and a
-//    curve vertex slides along its chain (not across stop points) when the smallest angle of
-//    its triangles grows and no face changes region. Passes repeat optimizationPasses times.
-//    Region boundaries are therefore left exactly as the compression made them, apart from
-//    the snapped vertices, and no move or flip ever lowers the local smallest angle.
+//    are simulated (never the domain border); the triangles around them form a sub-mesh with
+//    flat local arrays (triangles, neighbours across each edge, spring edge ids, a CSR vertex
+//    -> triangles table); every other vertex keeps its grid position.
+// 4. Simulation (6.1, 6.2). A SpringSystem on the sub-mesh with rest lengths from the grid:
+//    simulated vertices are free particles, pushed and arrived ones are driven, the halo is
+//    fixed. Every step: forces; free particles by semi-implicit Euler; one push step per
+//    pushed vertex; once every push is over, arrived vertices slide on their rail (6.4): they
+//    move along the chain by the tangential component of their force (a first-order step,
+//    dt^2 F_t / m), the move follows the polyline, a bend where the force turns back holds
+//    the vertex, and passing over a feature point stops it there for good. Every move of any
+//    kind passes the restrain test (6.3): each triangle around the vertex must stay
+//    counter-clockwise with at least 2% of its rest area (or not shrink if it already is
+//    below), so no triangle ever inverts and the mesh stays an embedding. Degeneracy (6.5): every
+//    flipInterval steps, triangles below 10% of their rest area or with an angle under 10 degrees
+//    get their longest edge flipped when the flip is valid and improves the pair's smallest angle;
+//    a push blocked for 10 steps has the edges that block it flipped when valid (typically a chord
+//    between two vertices already on a curve that bulges beyond it); blocked for 20 steps it aims
+//    half an edge length aside (at most 3 times). A push is over when it arrived or used its time
+//    (distance / speed + 20 steps). When the push phase ends, the deformed mesh is checked again
+//    (up to 4 waves): an edge between two free vertices that now crosses a boundary (ends in
+//    different regions) gets an end pushed by the same criterion, and the free corner of a face
+//    whose other two corners are on curves is pushed when the face's barycentre lies in another
+//    region (the curve bulges into the face, or a region too thin to hold a vertex runs
+//    through it). Sleeping: every 10 steps, particles that moved less than 0.03 h (and are
+//    not pushed) and whose neighbours did too stop being integrated, and springs touching
+//    only sleeping particles are skipped. The loop stops after maxIterations, or when every
+//    push is over and fewer than 0.5% of the simulated vertices move, or nothing moved by
+//    1e-3 h in 10 steps.
+// 5. Faces (Section 5). A face crossing a boundary takes the region of its barycentre
+//    (DistanceField::query). A face "crosses" when its corners do not settle it: corners off
+//    the curves lie inside regions, so a face whose off-curve corners all lie in one region
+//    takes that region, and only faces with every corner on a curve, or corners in different
+//    regions, use the barycentre. Hence an edge between faces of different regions joins two
+//    vertices on curves, except next to a face with corners in different regions. Faces
+//    outside the simulated zone keep the region of their corners.
+// 6. Optimization (beyond the paper, optional). (a) Snap: every vertex of the region
+//    boundary not on a curve moves to a boundary point near it (its closest point, its push
+//    target, or a quarter or half an edge length aside) when the restrain test allows,
+//    flipping the edges that block it when valid, as a last resort accepting 0.1% of the rest
+//    area; a vertex still heading for a junction hands the junction to a neighbour that can
+//    take it; an edge joining two off-curve vertices of different regions that neither can
+//    leave is flipped away when valid. (b) Flips: an edge between two faces of one region,
+//    one of them with an angle below 30 degrees, is flipped when both new faces are valid,
+//    keep that region and the pair's smallest angle grows. (c) Smoothing: a vertex whose
+//    faces have an angle below 30 degrees moves, if it is free and inside one region, toward
+//    the centroid of its neighbours or toward one of them (the candidate with the largest
+//    smallest angle, staying in its region), or, if it is on a curve, along its chain (not
+//    onto stop points, no face changing region), when the smallest angle of its faces grows.
+//    Passes repeat optimizationPasses times. No move or flip lowers the local smallest
+//    angle, and region boundaries stay on the vertices the compression put on curves.
 #include "Compression.h"
 
 #include "Errors.h"
@@ -55,12 +78,11 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -71,22 +93,27 @@ namespace strata
 namespace
 {
 
-constexpr double kCollapse = 0.02;        // restrain: keep at least 2% of the rest area
-constexpr double kSmallArea = 0.1;        // degeneracy check: below 10% of the rest area
-constexpr double kSmallAngle = 10.0;      // degeneracy check: an angle below 10 degrees
-constexpr int kStuckSteps = 30;           // a push without progress for this long is over
-constexpr int kMaxRetargets = 3;          // new targets for a stuck push
-constexpr int kMaxWaves = 4;              // push phases after the first one
-constexpr double kSettled = 1e-3;         // relative move below which a step is quiet
-constexpr int kSettledSteps = 10;         // quiet steps that end the simulation
-constexpr double kImprove = 1e-6;         // degrees: smallest meaningful angle improvement
+constexpr double kCollapse = 0.02;      // restrain: keep at least 2% of the rest area
+constexpr double kLastResort = 0.05;    // snap: then accept 5% of that (0.1% of the rest area)
+constexpr double kSmallArea = 0.1;      // degeneracy check: below 10% of the rest area
+constexpr double kSmallAngle = 10.0;    // degeneracy check: an angle below 10 degrees
+constexpr int kStuckSteps = 20;         // a push blocked this long aims aside
+constexpr int kMaxRetargets = 3;        // times a blocked push aims aside
+constexpr int kMaxWaves = 4;            // push phases after the first one
+constexpr double kSettled = 1e-3;       // relative move below which a step is quiet
+constexpr int kSettledSteps = 10;       // quiet steps that end the simulation
+constexpr int kWakeInterval = 10;       // steps between two updates of the awake particles
+constexpr double kSleep = 3e-2;         // relative move in kWakeInterval steps that keeps awake
+constexpr double kQuietFraction = 5e-3; // fewer moving vertices than this fraction: stop
+constexpr double kGoodAngle = 30.0;     // optimization leaves stars and pairs above this alone
+constexpr int kOnCurve = -2;            // vertex region of a vertex on a curve
 
 void checkRange(bool ok, const char* name, double value, const char* range)
 {
   if (!ok)
   {
-    throw ParameterError(std::string("Compression: ") + name + " " + std::to_string(value) +
-      " is not in " + range);
+    throw ParameterError(
+      std::string("Compression: ") + name + " " + std::to_string(value) + " is not in " + range);
   }
 }
 
@@ -96,34 +123,51 @@ double secondsSince(Clock::time_point t0)
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// Sine of the smallest angle of abc (monotone in the angle, which is at most 60 degrees):
+// twice the area over the product of the two longer edges.
+inline double minAngleSine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const double l0 = norm2(b - a), l1 = norm2(c - b), l2 = norm2(a - c);
+  const double shortest = std::min({ l0, l1, l2 });
+  const double product = l0 * l1 * l2 / (shortest > 0.0 ? shortest : 1.0);
+  return shortest > 0.0 ? std::fabs(orient2d(a, b, c)) / std::sqrt(product) : 0.0;
+}
+
 } // namespace
 
 void validate(const CompressionParams& p)
 {
   checkRange(p.springConfiguration == SpringConfiguration::EdgeOnly ||
       p.springConfiguration == SpringConfiguration::EdgeAndProjection,
-    "SpringConfiguration", static_cast<double>(static_cast<int>(p.springConfiguration)),
+    "SpringConfiguration",
+    static_cast<double>(static_cast<int>(p.springConfiguration)),
     "{0 (edge only), 1 (edge and projection)}");
-  checkRange(p.springStiffness > 0.0 && p.springStiffness <= 1e3, "SpringStiffness",
-    p.springStiffness, "(0, 1e3]");
+  checkRange(p.springStiffness > 0.0 && p.springStiffness <= 1e3,
+    "SpringStiffness",
+    p.springStiffness,
+    "(0, 1e3]");
   checkRange(p.damping >= 0.0 && p.damping <= 1e3, "Damping", p.damping, "[0, 1e3]");
   checkRange(p.timeStep > 0.0 && p.timeStep <= 1.0, "TimeStep", p.timeStep, "(0, 1]");
-  checkRange(p.maxIterations >= 0 && p.maxIterations <= 1000000, "MaxIterations",
-    p.maxIterations, "[0, 1e6]");
+  checkRange(p.maxIterations >= 0 && p.maxIterations <= 1000000,
+    "MaxIterations",
+    p.maxIterations,
+    "[0, 1e6]");
   checkRange(p.pushCriterion == PushCriterion::AllCandidates ||
       p.pushCriterion == PushCriterion::OneSide || p.pushCriterion == PushCriterion::Closest,
-    "PushCriterion", static_cast<double>(static_cast<int>(p.pushCriterion)),
+    "PushCriterion",
+    static_cast<double>(static_cast<int>(p.pushCriterion)),
     "{0 (all candidates), 1 (one side), 2 (closest)}");
-  checkRange(p.pushVelocity > 0.0 && p.pushVelocity <= 10.0, "PushVelocity", p.pushVelocity,
-    "(0, 10]");
-  checkRange(p.featureAngle >= 0.0 && p.featureAngle <= 180.0, "FeatureAngle", p.featureAngle,
-    "[0, 180]");
-  checkRange(p.flipInterval >= 1 && p.flipInterval <= 1000000, "FlipInterval", p.flipInterval,
-    "[1, 1e6]");
   checkRange(
-    p.activeRings >= 1 && p.activeRings <= 16, "ActiveRings", p.activeRings, "[1, 16]");
-  checkRange(p.optimizationPasses >= 0 && p.optimizationPasses <= 100, "OptimizationPasses",
-    p.optimizationPasses, "[0, 100]");
+    p.pushVelocity > 0.0 && p.pushVelocity <= 10.0, "PushVelocity", p.pushVelocity, "(0, 10]");
+  checkRange(
+    p.featureAngle >= 0.0 && p.featureAngle <= 180.0, "FeatureAngle", p.featureAngle, "[0, 180]");
+  checkRange(
+    p.flipInterval >= 1 && p.flipInterval <= 1000000, "FlipInterval", p.flipInterval, "[1, 1e6]");
+  checkRange(p.activeRings >= 1 && p.activeRings <= 16, "ActiveRings", p.activeRings, "[1, 16]");
+  checkRange(p.optimizationPasses >= 0 && p.optimizationPasses <= 100,
+    "OptimizationPasses",
+    p.optimizationPasses,
+    "[0, 100]");
 }
 
 //------------------------------------------------------------------------------
@@ -160,7 +204,8 @@ BoundaryRails::BoundaryRails(const Model& model, double featureAngle)
       }
     }
   }
-  std::sort(raw.begin(), raw.end(),
+  std::sort(raw.begin(),
+    raw.end(),
     [](const Seg& a, const Seg& b) { return a.lo != b.lo ? a.lo < b.lo : a.hi < b.hi; });
   std::vector<Seg> segs;
   for (const Seg& s : raw)
@@ -212,7 +257,8 @@ BoundaryRails::BoundaryRails(const Model& model, double featureAngle)
   std::vector<std::uint8_t> used(segs.size(), 0);
 
   // Walks from `node` along segment s until a node of degree != 2 (or back to the start).
-  auto walk = [&](int node, int s) {
+  auto walk = [&](int node, int s)
+  {
     Chain c;
     const int first = node;
     c.nodes.push_back(node);
@@ -312,8 +358,9 @@ BoundaryRails::BoundaryRails(const Model& model, double featureAngle)
   this->Tree = StripTree(std::move(a), std::move(b));
 }
 
-BoundaryRails::Location BoundaryRails::closest(
-  Vec2 p, StripTreeScratch& scratch, double* distance) const
+BoundaryRails::Location BoundaryRails::closest(Vec2 p,
+  StripTreeScratch& scratch,
+  double* distance) const
 {
   const NearestSegment s = this->Tree.nearest(p, scratch);
   Location l;
@@ -470,8 +517,13 @@ BoundaryRails::Slide BoundaryRails::slide(const Location& from, double s) const
 }
 
 //------------------------------------------------------------------------------
-bool restrainAccepts(const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles,
-  const int* star, int starSize, int i, Vec2 to, const double* minTwiceArea)
+bool restrainAccepts(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles,
+  const int* star,
+  int starSize,
+  int i,
+  Vec2 to,
+  const double* minTwiceArea)
 {
   for (int s = 0; s < starSize; ++s)
   {
@@ -498,13 +550,100 @@ bool restrainAccepts(const std::vector<Vec2>& points, const std::vector<std::arr
   return true;
 }
 
+std::size_t flipDegenerateTriangles(const std::vector<Vec2>& points,
+  std::vector<std::array<int, 3>>& triangles,
+  double smallAngle,
+  int passes)
+{
+  const double smallSine = std::sin(smallAngle * 3.14159265358979323846 / 180.0);
+  std::map<std::pair<int, int>, int> owner; // directed edge -> triangle
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      owner[{ triangles[t][k], triangles[t][(k + 1) % 3] }] = static_cast<int>(t);
+    }
+  }
+  std::size_t flips = 0;
+  for (int pass = 0; pass < passes; ++pass)
+  {
+    std::size_t now = 0;
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+    {
+      const std::array<int, 3> tri = triangles[t];
+      const Vec2 p0 = points[tri[0]], p1 = points[tri[1]], p2 = points[tri[2]];
+      if (!(minAngleSine(p0, p1, p2) < smallSine))
+      {
+        continue;
+      }
+      int k = 0;
+      double longest = -1.0;
+      for (int j = 0; j < 3; ++j)
+      {
+        const double l = norm2(points[tri[(j + 1) % 3]] - points[tri[j]]);
+        if (l > longest)
+        {
+          longest = l;
+          k = j;
+        }
+      }
+      const int a = tri[k], b = tri[(k + 1) % 3], c = tri[(k + 2) % 3];
+      const auto it = owner.find({ b, a });
+      if (it == owner.end())
+      {
+        continue;
+      }
+      const int u = it->second;
+      const std::array<int, 3> other = triangles[u];
+      const int j = other[0] == b ? 0 : (other[1] == b ? 1 : 2);
+      const int d = other[(j + 2) % 3];
+      const Vec2 pa = points[a], pb = points[b], pc = points[c], pd = points[d];
+      const double scale = norm2(pc - pd);
+      if (c == d || !(orient2d(pc, pa, pd) > 1e-12 * scale) ||
+        !(orient2d(pd, pb, pc) > 1e-12 * scale))
+      {
+        continue;
+      }
+      const double before = std::min(minAngleSine(pa, pb, pc), minAngleSine(pb, pa, pd));
+      const double after = std::min(minAngleSine(pc, pa, pd), minAngleSine(pd, pb, pc));
+      if (!(after > before * (1.0 + 1e-9) + 1e-12))
+      {
+        continue;
+      }
+      for (const std::array<int, 3>& old : { tri, other })
+      {
+        for (int m = 0; m < 3; ++m)
+        {
+          owner.erase({ old[m], old[(m + 1) % 3] });
+        }
+      }
+      triangles[t] = { c, a, d };
+      triangles[u] = { d, b, c };
+      for (int n : { static_cast<int>(t), u })
+      {
+        for (int m = 0; m < 3; ++m)
+        {
+          owner[{ triangles[n][m], triangles[n][(m + 1) % 3] }] = n;
+        }
+      }
+      ++now;
+    }
+    flips += now;
+    if (now == 0)
+    {
+      break;
+    }
+  }
+  return flips;
+}
+
 namespace
 {
 
 // Vertex states during the simulation.
 enum State : std::uint8_t
 {
-  Halo,    // fixed: in the sub-mesh only as a neighbour
+  Halo,    // fixed: in the sub-mesh only as a neighbour of simulated vertices
   Free,    // simulated particle
   Pushing, // driven toward its target
   Rail,    // on a curve
@@ -515,8 +654,12 @@ enum State : std::uint8_t
 class Compressor
 {
 public:
-  Compressor(const TriangleMesh& grid, const Classification& cls, const Model& model,
-    const DistanceField& field, const CompressionParams& params, const ProgressReporter& progress,
+  Compressor(const TriangleMesh& grid,
+    const Classification& cls,
+    const Model& model,
+    const DistanceField& field,
+    const CompressionParams& params,
+    const ProgressReporter& progress,
     CompressionResult& result)
     : Grid(grid)
     , Cls(cls)
@@ -527,75 +670,104 @@ public:
     , Result(result)
     , Rails(model, params.featureAngle)
   {
+    this->TheGuard.Self = this;
   }
 
   void run();
 
 private:
+  using Location = BoundaryRails::Location;
+
+  // Progress (and abort) inside long loops: every 4096 items, at the current fraction.
+  void poll(std::size_t i) const
+  {
+    if ((i & 4095) == 0)
+    {
+      this->Progress.report(this->At, this->Stage);
+    }
+  }
+  double At = 0.0;
+  const char* Stage = "compressing the grid";
+
   // --- set-up
   void buildGlobalStars();
   bool isBorderVertex(int g) const;
-  double boundaryDistance(int g);
+  double gridDistance(int g);
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
   void rebuildStars();
+  void claimStopPoints();
+  void spreadTargets();
+  bool nearClaimedStop(const Location& l, double reach) const;
+  void startPush(int i, const Location& target);
+  void setBudget(int i);
+  void retarget(int i);
+  bool junctionBound(int i) const { return this->JunctionTarget[this->Global[i]] >= 0; }
   // --- simulation
   void simulate();
-  bool pushStep(int i, double dt);
-  void claimStopPoints();
-  std::size_t pushNewCrossings();
-  void startPush(int i, const BoundaryRails::Location& target);
-  bool JunctionTargetLocal(int i) const { return this->JunctionTarget[this->Global[i]] >= 0; }
-  void retarget(int i);
-  bool nearClaimedStop(const BoundaryRails::Location& l, double reach) const;
-  BoundaryRails::Location sideTarget(int i, const BoundaryRails::Location& from, double s) const;
+  void pushStep(int i, double dt);
   void railStep(int i, double dt);
+  std::size_t pushNewCrossings();
+  std::size_t refreshAwake(std::vector<Vec2>& windowStart);
+  double lowerDistance(int i) const
+  {
+    const int g = this->Global[i];
+    const double d = this->Distance[g];
+    return std::isnan(d) ? 0.0 : d - norm(this->Sys->positions()[i] - this->Grid.points[g]);
+  }
   std::size_t flipDegenerate();
   std::size_t unblockPushes();
-  bool flipValid(int t, int k) const;
   // --- faces and optimization
+  int regionAt(Vec2 p) { return this->Field.query(p, this->FieldScratch).region; }
+  int vertexRegion(int i);
+  int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
+  int faceTag(int t);
   void classifyFaces();
-  int tagAt(Vec2 p) { return this->Field.query(p, this->FieldScratch).region; }
-  int outsideTag(int code) const
-  {
-    return code == -1 ? -1 : this->Result.triangleRegion[-2 - code];
-  }
   int neighbourTag(int t, int k) const
   {
     const int u = this->Nbr[t][k];
-    return u >= 0 ? this->Tag[u] : this->outsideTag(u);
+    return u >= 0 ? this->Tag[u] : (u == -1 ? -1 : this->Result.triangleRegion[-2 - u]);
   }
+  std::vector<int> offCurveBoundaryVertices() const;
+  bool placeOnCurve(int i, const Location& target, double minFraction);
   std::size_t snapBoundaryVertices();
-  bool moveTowards(int i, const BoundaryRails::Location& target);
   std::size_t optimizeFlips();
   std::size_t smooth();
-  bool starTagsKept(int i, Vec2 p);
   double starMinAngle(int i, Vec2 p) const;
   // --- shared
-  bool tryFlip(int t, int k, bool degenerateMode);
+  bool flipValid(int t, int k) const;
+  bool tryFlip(int t, int k, bool degenerate);
   void flip(int t, int k);
+  void retagStar(int i);
   bool accepts(int i, Vec2 to) const
   {
-    return restrainAccepts(this->Sys->positions(), this->Tri, this->StarItems.data() + this->StarStart[i],
-      this->StarStart[i + 1] - this->StarStart[i], i, to, this->MinTwice.data());
+    const int s0 = this->StarStart[i];
+    return restrainAccepts(this->Sys->positions(),
+      this->Tri,
+      this->StarItems.data() + s0,
+      this->StarStart[i + 1] - s0,
+      i,
+      to,
+      this->MinTwice.data());
   }
   double twiceArea(int t) const
   {
     const std::vector<Vec2>& x = this->Sys->positions();
     return orient2d(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
-  double triMinAngle(int t) const
+  bool onCurve(int i) const { return this->St[i] == Rail || this->St[i] == Pinned; }
+  double triMinAngleSine(int t) const
   {
     const std::vector<Vec2>& x = this->Sys->positions();
-    return minimumAngle(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
+    return minAngleSine(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
   void writeBack();
 
   struct Guard : MoveGuard
   {
-    const Compressor* self = nullptr;
-    bool accept(int i, Vec2, Vec2 to) override { return self->accepts(i, to); }
+    const Compressor* Self = nullptr;
+    bool accept(int i, Vec2, Vec2 to) override { return this->Self->accepts(i, to); }
   };
 
   const TriangleMesh& Grid;
@@ -608,40 +780,41 @@ private:
   BoundaryRails Rails;
   StripTreeScratch RailScratch;
   DistanceField::Scratch FieldScratch;
+  Guard TheGuard;
 
-  // Global mesh.
-  std::vector<Vec2> Points; // current positions (global ids)
+  // Global mesh (grid ids).
+  std::vector<Vec2> Points; // positions before the simulation (junctions snapped)
   std::vector<int> GStarStart, GStarItems;
   std::vector<std::uint8_t> Candidate, Push;
-  std::vector<double> Distance; // boundary distance of candidates (NaN unknown)
-  std::vector<int> JunctionOf;  // global vertex -> junction node it was placed on, or -1
-  std::vector<int> JunctionTarget; // global vertex -> junction node it is pushed to, or -1
-  std::vector<std::uint8_t> SnappedToJunction;
+  std::vector<double> Distance;    // boundary distance (NaN: not computed)
+  std::vector<int> JunctionOf;     // junction node a vertex was placed on, or -1
+  std::vector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
 
   // Sub-mesh (local ids).
-  std::vector<int> Global;       // local vertex -> global vertex
-  std::vector<int> LocalOf;      // global vertex -> local, -1
-  int NumActive = 0;             // local ids < NumActive are simulated
+  std::vector<int> Global;  // local vertex -> grid vertex
+  std::vector<int> LocalOf; // grid vertex -> local vertex, -1
+  int NumActive = 0;        // local ids below are simulated
   std::vector<std::array<int, 3>> Tri, Nbr, TriEdge;
   std::vector<int> TriGlobal, Level, Tag;
   std::vector<double> RestTwice, MinTwice;
   std::vector<int> StarStart, StarItems;
   std::unique_ptr<SpringSystem> Sys;
-  Guard TheGuard;
 
   // Per local vertex.
   std::vector<std::uint8_t> St;
   std::vector<Vec2> Target;
-  std::vector<BoundaryRails::Location> Loc; // push target, then rail position
+  std::vector<Location> Loc;         // push target, then position on the rail
+  std::vector<Location> FirstTarget; // closest point when the push started
   std::vector<std::uint8_t> PinOnArrival;
-  std::vector<double> Speed; // along the rail
-  std::vector<int> Stuck;
-  std::vector<int> Retargets;
-  std::vector<std::uint8_t> Claimed; // model node taken by a vertex (junction, feature)
-  std::vector<BoundaryRails::Location> FirstTarget; // closest point when the push started
-  std::vector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push this step
+  std::vector<int> Stuck, Retargets, PushSteps, Budget;
+  std::vector<int> VRegion;          // region of vertices off the curves, kOnCurve for the others
+  std::vector<std::uint8_t> Claimed; // per model node: a vertex is (going) there
+  std::vector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push
+  std::vector<Vec2> Candidates;             // smoothing scratch
 };
 
+//------------------------------------------------------------------------------
+// Set-up.
 void Compressor::buildGlobalStars()
 {
   const std::size_t np = this->Grid.points.size();
@@ -655,12 +828,14 @@ void Compressor::buildGlobalStars()
   }
   for (std::size_t i = 0; i < np; ++i)
   {
+    this->poll(i);
     this->GStarStart[i + 1] += this->GStarStart[i];
   }
   this->GStarItems.resize(this->GStarStart.back());
   std::vector<int> fill(this->GStarStart.begin(), this->GStarStart.end() - 1);
   for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
   {
+    this->poll(t);
     for (int v : this->Grid.triangles[t])
     {
       this->GStarItems[fill[v]++] = static_cast<int>(t);
@@ -671,13 +846,14 @@ void Compressor::buildGlobalStars()
 // A vertex whose triangles do not close around it lies on the mesh border.
 bool Compressor::isBorderVertex(int g) const
 {
-  for (int s = this->GStarStart[g]; s < this->GStarStart[g + 1]; ++s)
+  const int s0 = this->GStarStart[g], s1 = this->GStarStart[g + 1];
+  for (int s = s0; s < s1; ++s)
   {
     const std::array<int, 3>& t = this->Grid.triangles[this->GStarItems[s]];
     const int k = t[0] == g ? 0 : (t[1] == g ? 1 : 2);
     const int next = t[(k + 1) % 3];
     bool found = false;
-    for (int r = this->GStarStart[g]; r < this->GStarStart[g + 1] && !found; ++r)
+    for (int r = s0; r < s1 && !found; ++r)
     {
       const std::array<int, 3>& u = this->Grid.triangles[this->GStarItems[r]];
       const int j = u[0] == g ? 0 : (u[1] == g ? 1 : 2);
@@ -691,7 +867,8 @@ bool Compressor::isBorderVertex(int g) const
   return false;
 }
 
-double Compressor::boundaryDistance(int g)
+// Boundary distance of grid vertex g at its grid position (the grid's value when known).
+double Compressor::gridDistance(int g)
 {
   double& d = this->Distance[g];
   if (std::isnan(d))
@@ -715,9 +892,13 @@ void Compressor::choosePushes()
   this->Candidate.assign(np, 0);
   this->Push.assign(np, 0);
   this->Distance.assign(np, std::numeric_limits<double>::quiet_NaN());
-  const PushCriterion criterion = this->Params.pushCriterion;
+  if (this->Grid.pointBoundaryDistance.size() == np)
+  {
+    this->Distance = this->Grid.pointBoundaryDistance;
+  }
   for (std::size_t e = 0; e < this->Cls.edges.size(); ++e)
   {
+    this->poll(e);
     if (this->Cls.edgeClass[e] != EdgeIntersection)
     {
       continue;
@@ -733,22 +914,14 @@ void Compressor::choosePushes()
       continue;
     }
     const int ra = this->Cls.vertexRegion[a], rb = this->Cls.vertexRegion[b];
-    auto closer = [&]() { return this->boundaryDistance(a) <= this->boundaryDistance(b) ? a : b; };
-    switch (criterion)
+    const auto closer = [&]() { return this->gridDistance(a) <= this->gridDistance(b) ? a : b; };
+    switch (this->Params.pushCriterion)
     {
       case PushCriterion::AllCandidates:
         this->Push[a] = this->Push[b] = 1;
         break;
       case PushCriterion::OneSide:
-        if (ra != rb)
-        {
-          const int pushed = ra == -1 ? a : (rb == -1 ? b : (ra > rb ? a : b));
-          this->Push[pushed] = 1;
-        }
-        else
-        {
-          this->Push[closer()] = 1;
-        }
+        this->Push[ra == rb ? closer() : (ra == -1 ? a : (rb == -1 ? b : (ra > rb ? a : b)))] = 1;
         break;
       case PushCriterion::Closest:
         this->Push[closer()] = 1;
@@ -782,16 +955,18 @@ void Compressor::placeJunctions()
     this->Result.warnings.push_back("no intersection edges: junctions were not placed");
     return;
   }
-  const int cells = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(cand.size()))), 1, 2048);
-  const double side = std::max(box.width(), box.height()) * (1.0 + 1e-9) + 1e-300;
-  const double cellSize = side / cells;
-  auto cellOf = [&](double v, double lo) {
-    return std::clamp(static_cast<int>((v - lo) / cellSize), 0, cells - 1);
-  };
+  const int cells =
+    std::clamp(static_cast<int>(std::sqrt(static_cast<double>(cand.size()))), 1, 2048);
+  const double cellSize =
+    std::max(std::max(box.width(), box.height()) / cells, 1e-300) * (1.0 + 1e-9);
+  const auto cellOf = [&](double v, double lo)
+  { return std::clamp(static_cast<int>((v - lo) / cellSize), 0, cells - 1); };
+  const auto cellIndex = [&](Vec2 p)
+  { return cellOf(p.y, box.min.y) * cells + cellOf(p.x, box.min.x); };
   std::vector<int> start(static_cast<std::size_t>(cells) * cells + 1, 0);
   for (int v : cand)
   {
-    ++start[cellOf(this->Points[v].y, box.min.y) * cells + cellOf(this->Points[v].x, box.min.x) + 1];
+    ++start[cellIndex(this->Points[v]) + 1];
   }
   for (std::size_t i = 1; i < start.size(); ++i)
   {
@@ -802,8 +977,7 @@ void Compressor::placeJunctions()
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (int v : cand)
     {
-      items[fill[cellOf(this->Points[v].y, box.min.y) * cells +
-        cellOf(this->Points[v].x, box.min.x)]++] = v;
+      items[fill[cellIndex(this->Points[v])]++] = v;
     }
   }
   std::vector<double> minTwice(this->Grid.triangles.size());
@@ -813,23 +987,21 @@ void Compressor::placeJunctions()
     minTwice[t] = kCollapse *
       orient2d(this->Grid.points[tri[0]], this->Grid.points[tri[1]], this->Grid.points[tri[2]]);
   }
-
   std::size_t unplaced = 0;
   for (int node : this->TheModel.junctions)
   {
     const Vec2 p = this->TheModel.nodes[node];
-    // Nearest candidates: grow rings of cells until the ring is beyond 3x the nearest found.
+    // Nearest free candidates: rings of cells until the ring is beyond 3x the nearest found.
     std::vector<std::pair<double, int>> near;
     const int cx = cellOf(p.x, box.min.x), cy = cellOf(p.y, box.min.y);
     double best = HUGE_VAL;
     for (int r = 0; r < cells; ++r)
     {
-      for (int y = cy - r; y <= cy + r; ++y)
+      for (int y = std::max(cy - r, 0); y <= std::min(cy + r, cells - 1); ++y)
       {
-        for (int x = cx - r; x <= cx + r; ++x)
+        for (int x = std::max(cx - r, 0); x <= std::min(cx + r, cells - 1); ++x)
         {
-          if (x < 0 || y < 0 || x >= cells || y >= cells ||
-            (std::abs(x - cx) != r && std::abs(y - cy) != r))
+          if (std::abs(x - cx) != r && std::abs(y - cy) != r)
           {
             continue;
           }
@@ -837,17 +1009,15 @@ void Compressor::placeJunctions()
           for (int k = start[c]; k < start[c + 1]; ++k)
           {
             const int v = items[k];
-            if (this->JunctionOf[v] >= 0 || this->JunctionTarget[v] >= 0)
+            if (this->JunctionOf[v] < 0 && this->JunctionTarget[v] < 0)
             {
-              continue;
+              const double d = norm(this->Points[v] - p);
+              near.push_back({ d, v });
+              best = std::min(best, d);
             }
-            const double d = norm(this->Points[v] - p);
-            near.push_back({ d, v });
-            best = std::min(best, d);
           }
         }
       }
-      // Cells of ring r + 1 are at least r * cellSize away.
       if (best < HUGE_VAL && r * cellSize > 3.0 * best)
       {
         break;
@@ -863,9 +1033,14 @@ void Compressor::placeJunctions()
     for (std::size_t k = 0; k < near.size() && k < 12 && near[k].first <= 3.0 * best; ++k)
     {
       const int v = near[k].second;
-      if (restrainAccepts(this->Points, this->Grid.triangles,
-            this->GStarItems.data() + this->GStarStart[v],
-            this->GStarStart[v + 1] - this->GStarStart[v], v, p, minTwice.data()))
+      const int s0 = this->GStarStart[v];
+      if (restrainAccepts(this->Points,
+            this->Grid.triangles,
+            this->GStarItems.data() + s0,
+            this->GStarStart[v + 1] - s0,
+            v,
+            p,
+            minTwice.data()))
       {
         this->Points[v] = p;
         this->JunctionOf[v] = node;
@@ -891,33 +1066,35 @@ void Compressor::buildSubMesh()
   const std::size_t nt = this->Grid.triangles.size();
   // Breadth-first rings from the candidates and junction vertices.
   std::vector<int> ring(np, -1);
-  std::vector<int> frontier;
-  std::vector<std::uint8_t> border(np, 2); // 2 = unknown
-  auto isBorder = [&](int g) {
+  std::vector<std::uint8_t> border(np, 2); // 2 = not known yet
+  const auto isBorder = [&](int g)
+  {
     if (border[g] == 2)
     {
       border[g] = this->isBorderVertex(g) ? 1 : 0;
     }
     return border[g] == 1;
   };
-  std::size_t stuckOnBorder = 0;
+  std::vector<int> frontier;
+  std::size_t onBorder = 0;
   for (std::size_t i = 0; i < np; ++i)
   {
     if (this->Candidate[i] || this->JunctionOf[i] >= 0 || this->JunctionTarget[i] >= 0)
     {
       if (isBorder(static_cast<int>(i)))
       {
-        stuckOnBorder += this->Push[i] || this->JunctionOf[i] >= 0;
+        onBorder += this->Push[i] || this->JunctionOf[i] >= 0 || this->JunctionTarget[i] >= 0;
         continue;
       }
       ring[i] = 0;
       frontier.push_back(static_cast<int>(i));
     }
   }
-  if (stuckOnBorder > 0)
+  if (onBorder > 0)
   {
-    this->Result.warnings.push_back(std::to_string(stuckOnBorder) +
-      " boundary vertices lie on the border of the grid and cannot move");
+    this->Result.warnings.push_back(std::to_string(onBorder) +
+      " vertices chosen to be pushed lie on the border of the grid's domain and stay fixed "
+      "(a coarse grid around the model)");
   }
   std::vector<int> active = frontier;
   for (int r = 1; r <= this->Params.activeRings; ++r)
@@ -940,9 +1117,8 @@ void Compressor::buildSubMesh()
     active.insert(active.end(), next.begin(), next.end());
     frontier.swap(next);
   }
-  // Local vertices: active first, then the halo.
+  // Local vertices: the simulated ones first, then the halo.
   this->LocalOf.assign(np, -1);
-  this->Global.clear();
   for (int g : active)
   {
     this->LocalOf[g] = static_cast<int>(this->Global.size());
@@ -950,7 +1126,6 @@ void Compressor::buildSubMesh()
   }
   this->NumActive = static_cast<int>(this->Global.size());
   std::vector<int> localTri(nt, -1);
-  this->TriGlobal.clear();
   for (int g : active)
   {
     for (int s = this->GStarStart[g]; s < this->GStarStart[g + 1]; ++s)
@@ -973,18 +1148,21 @@ void Compressor::buildSubMesh()
     }
   }
   const std::size_t nl = this->TriGlobal.size();
+  const bool levels = this->Grid.triangleLevel.size() == nt;
   this->Tri.resize(nl);
   this->Level.resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
     const std::array<int, 3>& g = this->Grid.triangles[this->TriGlobal[t]];
     this->Tri[t] = { this->LocalOf[g[0]], this->LocalOf[g[1]], this->LocalOf[g[2]] };
-    this->Level[t] = this->Grid.triangleLevel.size() == nt ? this->Grid.triangleLevel[this->TriGlobal[t]] : 0;
+    this->Level[t] = levels ? this->Grid.triangleLevel[this->TriGlobal[t]] : 0;
   }
-  // Neighbours across each edge: local id, -1 for the domain border, -2 - global id outside.
+  // Neighbours across each edge k (from corner k to corner k + 1): a local triangle, -1 for
+  // the domain border, -2 - (grid triangle id) for a triangle outside the sub-mesh.
   this->Nbr.assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {
+    this->poll(t);
     const int gt = this->TriGlobal[t];
     const std::array<int, 3>& g = this->Grid.triangles[gt];
     for (int k = 0; k < 3; ++k)
@@ -994,13 +1172,9 @@ void Compressor::buildSubMesh()
       for (int s = this->GStarStart[b]; s < this->GStarStart[b + 1] && across < 0; ++s)
       {
         const int u = this->GStarItems[s];
-        if (u == gt)
-        {
-          continue;
-        }
         const std::array<int, 3>& h = this->Grid.triangles[u];
         const int j = h[0] == b ? 0 : (h[1] == b ? 1 : 2);
-        if (h[(j + 1) % 3] == a)
+        if (u != gt && h[(j + 1) % 3] == a)
         {
           across = u;
         }
@@ -1008,20 +1182,20 @@ void Compressor::buildSubMesh()
       this->Nbr[t][k] = across < 0 ? -1 : (localTri[across] >= 0 ? localTri[across] : -2 - across);
     }
   }
-  // Spring edges.
+  // Spring edges (each edge once; both triangles of an edge share its id).
   std::vector<std::array<int, 2>> edges;
   this->TriEdge.assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {
     for (int k = 0; k < 3; ++k)
     {
+      const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
       const int u = this->Nbr[t][k];
       if (u >= 0 && u < static_cast<int>(t))
       {
-        const int a = this->Tri[t][k];
         for (int j = 0; j < 3; ++j)
         {
-          if (this->Tri[u][j] == this->Tri[t][(k + 1) % 3] && this->Tri[u][(j + 1) % 3] == a)
+          if (this->Tri[u][j] == b && this->Tri[u][(j + 1) % 3] == a)
           {
             this->TriEdge[t][k] = this->TriEdge[u][j];
           }
@@ -1030,12 +1204,10 @@ void Compressor::buildSubMesh()
       else
       {
         this->TriEdge[t][k] = static_cast<int>(edges.size());
-        edges.push_back({ std::min(this->Tri[t][k], this->Tri[t][(k + 1) % 3]),
-          std::max(this->Tri[t][k], this->Tri[t][(k + 1) % 3]) });
+        edges.push_back({ std::min(a, b), std::max(a, b) });
       }
     }
   }
-  // Positions, rest positions, areas.
   const std::size_t nv = this->Global.size();
   std::vector<Vec2> x(nv), rest(nv);
   for (std::size_t i = 0; i < nv; ++i)
@@ -1047,7 +1219,8 @@ void Compressor::buildSubMesh()
   this->MinTwice.resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
-    this->RestTwice[t] = orient2d(rest[this->Tri[t][0]], rest[this->Tri[t][1]], rest[this->Tri[t][2]]);
+    const std::array<int, 3>& tri = this->Tri[t];
+    this->RestTwice[t] = orient2d(rest[tri[0]], rest[tri[1]], rest[tri[2]]);
     this->MinTwice[t] = kCollapse * this->RestTwice[t];
   }
   SpringParams sp;
@@ -1058,50 +1231,56 @@ void Compressor::buildSubMesh()
   sm.triangles = this->Tri;
   sm.edges = std::move(edges);
   this->Sys = std::make_unique<SpringSystem>(std::move(sm), std::move(x), rest, sp);
-  this->TheGuard.self = this;
   this->rebuildStars();
 
   // States.
   this->St.assign(nv, Halo);
   this->Target.assign(nv, Vec2{});
-  this->Loc.assign(nv, BoundaryRails::Location{});
+  this->Loc.assign(nv, Location{});
+  this->FirstTarget.assign(nv, Location{});
   this->PinOnArrival.assign(nv, 0);
-  this->Speed.assign(nv, 0.0);
   this->Stuck.assign(nv, 0);
   this->Retargets.assign(nv, 0);
-  this->FirstTarget.assign(nv, BoundaryRails::Location{});
+  this->PushSteps.assign(nv, 0);
+  this->Budget.assign(nv, 0);
+  this->Claimed.assign(this->TheModel.nodes.size(), 0);
   for (std::size_t i = 0; i < nv; ++i)
   {
+    const int li = static_cast<int>(i);
     const int g = this->Global[i];
-    if (static_cast<int>(i) >= this->NumActive)
+    if (li >= this->NumActive)
     {
-      this->Sys->setKind(static_cast<int>(i), ParticleKind::Fixed);
-      continue;
+      this->Sys->setKind(li, ParticleKind::Fixed);
     }
-    if (this->JunctionOf[g] >= 0)
+    else if (this->JunctionOf[g] >= 0)
     {
       this->St[i] = Pinned;
       this->Loc[i] = this->Rails.locationsOfNode(this->JunctionOf[g]).front();
-      this->Sys->setKind(static_cast<int>(i), ParticleKind::Fixed);
+      this->Claimed[this->JunctionOf[g]] = 1;
+      this->Sys->setKind(li, ParticleKind::Fixed);
       ++this->Result.junctionVertices;
     }
     else if (this->JunctionTarget[g] >= 0)
     {
       this->St[i] = Pushing;
-      this->Loc[i] = this->Rails.locationsOfNode(this->JunctionTarget[g]).front();
+      this->Loc[i] = this->FirstTarget[i] =
+        this->Rails.locationsOfNode(this->JunctionTarget[g]).front();
       this->Target[i] = this->TheModel.nodes[this->JunctionTarget[g]];
       this->PinOnArrival[i] = 1;
-      this->Sys->setKind(static_cast<int>(i), ParticleKind::Driven);
+      this->Claimed[this->JunctionTarget[g]] = 1;
+      this->Sys->setKind(li, ParticleKind::Driven);
       ++this->Result.pushedVertices;
+      ++this->Result.junctionVertices;
     }
     else if (this->Push[g])
     {
       this->St[i] = Pushing;
-      this->Loc[i] = this->Rails.closest(this->Sys->positions()[i], this->RailScratch);
+      this->Loc[i] = this->FirstTarget[i] =
+        this->Rails.closest(this->Sys->positions()[i], this->RailScratch);
       this->Target[i] = this->Rails.position(this->Loc[i]);
       const int point = this->Rails.pointAt(this->Loc[i]);
       this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
-      this->Sys->setKind(static_cast<int>(i), ParticleKind::Driven);
+      this->Sys->setKind(li, ParticleKind::Driven);
       ++this->Result.pushedVertices;
     }
     else
@@ -1110,230 +1289,16 @@ void Compressor::buildSubMesh()
     }
   }
   this->Result.simulatedVertices = static_cast<std::size_t>(this->NumActive);
-  this->FirstTarget = this->Loc;
   this->claimStopPoints();
-}
-
-// A stop point (junction or feature) takes one vertex: a pinned junction vertex, else the
-// pushed vertex closest to it; the others aim beside it.
-void Compressor::claimStopPoints()
-{
-  this->Claimed.assign(this->TheModel.nodes.size(), 0);
-  std::vector<std::uint8_t>& claimed = this->Claimed;
-  std::vector<std::pair<double, int>> order;
-  const std::vector<Vec2>& x = this->Sys->positions();
+  this->spreadTargets();
   for (int i = 0; i < this->NumActive; ++i)
   {
-    if (this->St[i] == Pinned || (this->St[i] == Pushing && this->JunctionTargetLocal(i)))
+    this->poll(static_cast<std::size_t>(i));
+    if (this->St[i] == Pushing)
     {
-      const BoundaryRails::Chain& c = this->Rails.chain(this->Loc[i].chain);
-      claimed[c.nodes[this->Rails.pointAt(this->Loc[i])]] = 1;
-    }
-    else if (this->St[i] == Pushing)
-    {
-      order.push_back({ norm(this->Target[i] - x[i]), i });
+      this->setBudget(i);
     }
   }
-  std::sort(order.begin(), order.end());
-  for (const auto& item : order)
-  {
-    const int i = item.second;
-    const int point = this->Rails.pointAt(this->Loc[i]);
-    if (this->nearClaimedStop(this->Loc[i], 0.3 * this->Sys->localLength(i)))
-    {
-      this->retarget(i);
-    }
-    else if (point >= 0 && this->PinOnArrival[i])
-    {
-      claimed[this->Rails.chain(this->Loc[i].chain).nodes[point]] = 1;
-    }
-  }
-}
-
-// Whether a claimed stop point (a junction or feature with its vertex) is within arc length
-// `reach` of l along its segment.
-bool Compressor::nearClaimedStop(const BoundaryRails::Location& l, double reach) const
-{
-  const BoundaryRails::Chain& c = this->Rails.chain(l.chain);
-  const int np = static_cast<int>(c.points.size());
-  const int p0 = l.segment, p1 = (l.segment + 1) % np;
-  const double len = norm(c.points[p1] - c.points[p0]);
-  return (this->Claimed[c.nodes[p0]] && l.t * len <= reach) ||
-    (this->Claimed[c.nodes[p1]] && (1.0 - l.t) * len <= reach);
-}
-
-void Compressor::startPush(int i, const BoundaryRails::Location& target)
-{
-  this->St[i] = Pushing;
-  this->Loc[i] = target;
-  this->FirstTarget[i] = target;
-  this->Retargets[i] = 0;
-  this->Target[i] = this->Rails.position(target);
-  const int point = this->Rails.pointAt(target);
-  this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(target.chain, point);
-  this->Stuck[i] = 0;
-  this->Speed[i] = 0.0;
-  this->Sys->setKind(i, ParticleKind::Driven);
-  ++this->Result.pushedVertices;
-  if (this->nearClaimedStop(target, 0.3 * this->Sys->localLength(i)))
-  {
-    this->retarget(i);
-  }
-  else if (point >= 0 && this->PinOnArrival[i])
-  {
-    this->Claimed[this->Rails.chain(target.chain).nodes[point]] = 1;
-  }
-}
-
-// A new push wave: the compression moved free vertices, so edges between two free vertices
-// may now cross a boundary. Such an edge can only cross when the boundary distances of its
-// ends add up to at most its length; then the regions of its ends decide, and the push
-// criterion picks the end(s) to push.
-std::size_t Compressor::pushNewCrossings()
-{
-  const std::vector<Vec2>& x = this->Sys->positions();
-  const std::size_t nv = x.size();
-  std::vector<double> dist(nv, -1.0);
-  std::vector<BoundaryRails::Location> near(nv);
-  std::vector<int> region(nv, -2);
-  auto distance = [&](int v) {
-    if (dist[v] < 0.0)
-    {
-      near[v] = this->Rails.closest(x[v], this->RailScratch, &dist[v]);
-    }
-    return dist[v];
-  };
-  auto regionOf = [&](int v) {
-    if (region[v] == -2)
-    {
-      region[v] = this->tagAt(x[v]);
-    }
-    return region[v];
-  };
-  std::vector<std::uint8_t> push(nv, 0);
-  for (const std::array<int, 2>& e : this->Sys->mesh().edges)
-  {
-    const int a = e[0], b = e[1];
-    const bool freeA = a < this->NumActive && this->St[a] == Free;
-    const bool freeB = b < this->NumActive && this->St[b] == Free;
-    if (!(freeA || freeB) || !((freeA || this->St[a] == Halo) && (freeB || this->St[b] == Halo)))
-    {
-      continue;
-    }
-    if (distance(a) + distance(b) > norm(x[a] - x[b]))
-    {
-      continue;
-    }
-    const int ra = regionOf(a), rb = regionOf(b);
-    if (ra == rb)
-    {
-      continue;
-    }
-    int pushed = -1;
-    switch (this->Params.pushCriterion)
-    {
-      case PushCriterion::AllCandidates:
-        push[a] |= freeA;
-        push[b] |= freeB;
-        break;
-      case PushCriterion::OneSide:
-        pushed = ra == -1 ? a : (rb == -1 ? b : (ra > rb ? a : b));
-        break;
-      case PushCriterion::Closest:
-        pushed = dist[a] <= dist[b] ? a : b;
-        break;
-    }
-    if (pushed >= 0)
-    {
-      const int other = pushed == a ? b : a;
-      push[(pushed < this->NumActive && this->St[pushed] == Free) ? pushed : other] = 1;
-    }
-  }
-  // A free vertex near the boundary whose faces' barycentres lie in different regions would
-  // end on the approximated boundary: push it as well.
-  std::vector<int> faceRegion(this->Tri.size(), -2);
-  for (int i = 0; i < this->NumActive; ++i)
-  {
-    if (this->St[i] != Free || push[i])
-    {
-      continue;
-    }
-    const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
-    double reach = 0.0;
-    for (int s = s0; s < s1; ++s)
-    {
-      for (int v : this->Tri[this->StarItems[s]])
-      {
-        reach = std::max(reach, norm(x[v] - x[i]));
-      }
-    }
-    if (distance(i) > reach)
-    {
-      continue;
-    }
-    int first = -2;
-    for (int s = s0; s < s1; ++s)
-    {
-      const int t = this->StarItems[s];
-      if (faceRegion[t] == -2)
-      {
-        const std::array<int, 3>& tri = this->Tri[t];
-        faceRegion[t] = this->tagAt((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]));
-      }
-      if (first == -2)
-      {
-        first = faceRegion[t];
-      }
-      else if (faceRegion[t] != first)
-      {
-        push[i] = 1;
-        break;
-      }
-    }
-  }
-  std::size_t count = 0;
-  for (int i = 0; i < this->NumActive; ++i)
-  {
-    if (push[i] && this->St[i] == Free)
-    {
-      distance(i);
-      this->startPush(i, near[i]);
-      ++count;
-    }
-  }
-  return count;
-}
-
-// The rail location at arc length s from `from` (not beyond a stop point).
-BoundaryRails::Location Compressor::sideTarget(
-  int, const BoundaryRails::Location& from, double s) const
-{
-  return this->Rails.slide(from, s).location;
-}
-
-// Aims a pushed vertex beside its target: half a local edge length along the chain, on the
-// side nearer to the vertex.
-void Compressor::retarget(int i)
-{
-  const std::vector<Vec2>& x = this->Sys->positions();
-  // Half an edge length beside the first closest point, then one edge length.
-  const double h = 0.5 * this->Sys->localLength(i) * (1 + this->Retargets[i] / 2);
-  const BoundaryRails::Location a = this->sideTarget(i, this->FirstTarget[i], h);
-  const BoundaryRails::Location b = this->sideTarget(i, this->FirstTarget[i], -h);
-  const Vec2 pa = this->Rails.position(a), pb = this->Rails.position(b);
-  const double tiny = 0.05 * h;
-  const bool aMoved = norm(pa - this->Target[i]) > tiny && !this->nearClaimedStop(a, 0.3 * h);
-  const bool bMoved = norm(pb - this->Target[i]) > tiny && !this->nearClaimedStop(b, 0.3 * h);
-  if (!aMoved && !bMoved)
-  {
-    return;
-  }
-  const bool useA = aMoved && (!bMoved || norm2(pa - x[i]) <= norm2(pb - x[i]));
-  this->Loc[i] = useA ? a : b;
-  this->Target[i] = useA ? pa : pb;
-  const int point = this->Rails.pointAt(this->Loc[i]);
-  this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
-  ++this->Retargets[i];
 }
 
 void Compressor::rebuildStars()
@@ -1362,24 +1327,173 @@ void Compressor::rebuildStars()
   }
 }
 
+// Whether a claimed stop point (a junction or feature with its vertex) is within arc length
+// `reach` of l along its segment.
+bool Compressor::nearClaimedStop(const Location& l, double reach) const
+{
+  const BoundaryRails::Chain& c = this->Rails.chain(l.chain);
+  const int p0 = l.segment, p1 = (l.segment + 1) % static_cast<int>(c.points.size());
+  const double len = norm(c.points[p1] - c.points[p0]);
+  return (this->Claimed[c.nodes[p0]] && l.t * len <= reach) ||
+    (this->Claimed[c.nodes[p1]] && (1.0 - l.t) * len <= reach);
+}
+
+// A stop point (junction or feature) takes one vertex: the junction's own vertex, else the
+// pushed vertex closest to it; the others aim beside it.
+void Compressor::claimStopPoints()
+{
+  std::vector<std::pair<double, int>> order;
+  const std::vector<Vec2>& x = this->Sys->positions();
+  for (int i = 0; i < this->NumActive; ++i)
+  {
+    if (this->St[i] == Pushing && !this->junctionBound(i))
+    {
+      order.push_back({ norm(this->Target[i] - x[i]), i });
+    }
+  }
+  std::sort(order.begin(), order.end());
+  for (const std::pair<double, int>& item : order)
+  {
+    const int i = item.second;
+    const int point = this->Rails.pointAt(this->Loc[i]);
+    if (this->nearClaimedStop(this->Loc[i], 0.3 * this->Sys->localLength(i)))
+    {
+      this->retarget(i);
+    }
+    else if (point >= 0 && this->PinOnArrival[i])
+    {
+      this->Claimed[this->Rails.chain(this->Loc[i].chain).nodes[point]] = 1;
+    }
+  }
+}
+
+// Of two pushed vertices aiming at nearly the same point of a chain (closer than a quarter
+// of the local edge length), the one farther from its target aims beside it.
+void Compressor::spreadTargets()
+{
+  struct Item
+  {
+    Location l;
+    int vertex;
+  };
+  std::vector<Item> items;
+  for (int i = 0; i < this->NumActive; ++i)
+  {
+    if (this->St[i] == Pushing && !this->junctionBound(i))
+    {
+      items.push_back({ this->Loc[i], i });
+    }
+  }
+  std::sort(items.begin(),
+    items.end(),
+    [](const Item& a, const Item& b)
+    {
+      return a.l.chain != b.l.chain
+        ? a.l.chain < b.l.chain
+        : (a.l.segment != b.l.segment ? a.l.segment < b.l.segment : a.l.t < b.l.t);
+    });
+  const std::vector<Vec2>& x = this->Sys->positions();
+  for (std::size_t k = 1; k < items.size(); ++k)
+  {
+    const int a = items[k - 1].vertex, b = items[k].vertex;
+    if (items[k - 1].l.chain != items[k].l.chain)
+    {
+      continue;
+    }
+    const double h = std::min(this->Sys->localLength(a), this->Sys->localLength(b));
+    if (norm(this->Target[a] - this->Target[b]) < 0.25 * h)
+    {
+      this->retarget(norm2(this->Target[a] - x[a]) <= norm2(this->Target[b] - x[b]) ? b : a);
+    }
+  }
+}
+
+void Compressor::setBudget(int i)
+{
+  const double step = this->Params.pushVelocity * this->Params.timeStep * this->Sys->localLength(i);
+  this->PushSteps[i] = 0;
+  this->Budget[i] =
+    static_cast<int>(std::ceil(norm(this->Target[i] - this->Sys->positions()[i]) / step)) +
+    kStuckSteps;
+}
+
+// Aims pushed vertex i half an edge length (one edge length after two retargets) beside its
+// first target or beside its current closest point, whichever candidate is nearest to it,
+// avoiding taken stop points.
+void Compressor::retarget(int i)
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const double h = 0.5 * this->Sys->localLength(i) * (1 + this->Retargets[i] / 2);
+  const Location now = this->Rails.closest(x[i], this->RailScratch);
+  bool found = false;
+  Location best;
+  double bestD = HUGE_VAL;
+  for (const Location& from : { this->FirstTarget[i], now })
+  {
+    for (double s : { h, -h })
+    {
+      const Location l = this->Rails.slide(from, s).location;
+      const Vec2 p = this->Rails.position(l);
+      const double d = norm2(p - x[i]);
+      if (d < bestD && norm(p - this->Target[i]) > 0.05 * h && !this->nearClaimedStop(l, 0.3 * h))
+      {
+        best = l;
+        bestD = d;
+        found = true;
+      }
+    }
+  }
+  ++this->Retargets[i];
+  if (!found)
+  {
+    return;
+  }
+  this->Loc[i] = best;
+  this->Target[i] = this->Rails.position(best);
+  const int point = this->Rails.pointAt(best);
+  this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(best.chain, point);
+}
+
+void Compressor::startPush(int i, const Location& target)
+{
+  this->St[i] = Pushing;
+  this->Loc[i] = this->FirstTarget[i] = target;
+  this->Target[i] = this->Rails.position(target);
+  const int point = this->Rails.pointAt(target);
+  this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(target.chain, point);
+  this->Stuck[i] = 0;
+  this->Retargets[i] = 0;
+  this->Sys->setKind(i, ParticleKind::Driven);
+  ++this->Result.pushedVertices;
+  if (this->nearClaimedStop(target, 0.3 * this->Sys->localLength(i)))
+  {
+    this->retarget(i);
+  }
+  else if (point >= 0 && this->PinOnArrival[i])
+  {
+    this->Claimed[this->Rails.chain(target.chain).nodes[point]] = 1;
+  }
+  this->setBudget(i);
+}
+
 //------------------------------------------------------------------------------
 // Simulation.
-bool Compressor::pushStep(int i, double dt)
+void Compressor::pushStep(int i, double dt)
 {
   std::vector<Vec2>& x = this->Sys->positions();
   const Vec2 d = this->Target[i] - x[i];
   const double remaining = norm(d);
-  const double stepLength = this->Params.pushVelocity * dt * this->Sys->localLength(i);
+  const double h = this->Sys->localLength(i);
+  const double stepLength = this->Params.pushVelocity * dt * h;
   const bool arrive = remaining <= stepLength;
   const Vec2 to = arrive ? this->Target[i] : x[i] + (stepLength / remaining) * d;
   if (!this->accepts(i, to))
   {
-    ++this->Stuck[i];
     this->Sys->velocities()[i] = Vec2{};
+    ++this->Stuck[i];
     if (this->Stuck[i] == kStuckSteps / 2 && this->Params.flipDegenerate)
     {
-      // Blocked by the opposite edge of some triangle (typically a chord between two vertices
-      // already on the curve, which bulges beyond it): ask for that edge to be flipped.
+      // Ask for the edges opposite i in the triangles that block the move to be flipped.
       for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
       {
         const int t = this->StarItems[s];
@@ -1393,48 +1507,53 @@ bool Compressor::pushStep(int i, double dt)
       }
     }
     if (this->Stuck[i] == kStuckSteps && this->Retargets[i] < kMaxRetargets &&
-      !this->JunctionTargetLocal(i))
+      !this->junctionBound(i))
     {
       this->retarget(i);
       this->Stuck[i] = 0;
     }
-    return false;
+    return;
   }
   this->Stuck[i] = 0;
   x[i] = to;
-  this->Sys->velocities()[i] = arrive ? Vec2{} : (this->Params.pushVelocity * this->Sys->localLength(i) / remaining) * d;
-  if (arrive)
+  if (!arrive)
   {
-    this->St[i] = this->PinOnArrival[i] ? Pinned : Rail;
-    if (this->St[i] == Pinned)
-    {
-      this->Sys->setKind(i, ParticleKind::Fixed);
-    }
-    ++this->Result.arrivedVertices;
+    this->Sys->velocities()[i] = (this->Params.pushVelocity * h / remaining) * d;
+    return;
   }
-  return true;
+  this->Sys->velocities()[i] = Vec2{};
+  ++this->Result.arrivedVertices;
+  if (this->PinOnArrival[i])
+  {
+    this->St[i] = Pinned;
+    this->Sys->setKind(i, ParticleKind::Fixed);
+  }
+  else
+  {
+    this->St[i] = Rail;
+  }
 }
 
 void Compressor::railStep(int i, double dt)
 {
   std::vector<Vec2>& x = this->Sys->positions();
+  // First-order motion along the rail: the vertex moves by dt^2 F_t / m_i (the step the
+  // particle would make from rest), with no momentum. With the stable mass m_i this is at
+  // most half the step to the equilibrium of its springs along the rail, so the rails settle
+  // without oscillating.
   const Vec2 tangent = this->Rails.tangent(this->Loc[i]);
-  const double h = this->Sys->localLength(i);
-  double u = this->Speed[i] + dt * dot(this->Sys->forces()[i], tangent) / this->Sys->stableMass(i, dt);
-  double s = dt * u;
-  const double limit = this->Sys->params().maxStep * h;
-  if (std::fabs(s) > limit)
-  {
-    s = s > 0.0 ? limit : -limit;
-    u = s / dt;
-  }
+  const Vec2 force = this->Sys->forces()[i];
+  double s = dt * dt * dot(force, tangent) / this->Sys->stableMass(i, dt);
+  const double limit = this->Sys->params().maxStep * this->Sys->localLength(i);
+  s = std::clamp(s, -limit, limit);
+  double u = s / dt;
   if (s == 0.0)
   {
     return;
   }
   BoundaryRails::Slide slide = this->Rails.slide(this->Loc[i], s);
   if (!slide.stopped && slide.location.segment != this->Loc[i].segment &&
-    dot(this->Sys->forces()[i], this->Rails.tangent(slide.location)) * s < 0.0)
+    dot(force, this->Rails.tangent(slide.location)) * s < 0.0)
   {
     // The force pulls back on the next segment: the bend is an equilibrium, rest on it
     // instead of chattering around it.
@@ -1445,7 +1564,6 @@ void Compressor::railStep(int i, double dt)
   const Vec2 to = this->Rails.position(slide.location);
   if (!this->accepts(i, to))
   {
-    this->Speed[i] = 0.0;
     this->Sys->velocities()[i] = Vec2{};
     return;
   }
@@ -1453,48 +1571,157 @@ void Compressor::railStep(int i, double dt)
   this->Loc[i] = slide.location;
   if (slide.stopped)
   {
+    this->Sys->velocities()[i] = Vec2{};
     const int point = this->Rails.pointAt(slide.location);
     const BoundaryRails::Chain& c = this->Rails.chain(slide.location.chain);
-    const bool chainEnd = !c.closed && (point == 0 || point + 1 == static_cast<int>(c.points.size()));
-    this->Speed[i] = 0.0;
-    this->Sys->velocities()[i] = Vec2{};
+    const bool chainEnd =
+      !c.closed && (point == 0 || point + 1 == static_cast<int>(c.points.size()));
     if (!chainEnd)
     {
+      // Passed over a feature point: stays there for good (6.4).
       this->Claimed[c.nodes[point]] = 1;
-      this->St[i] = Pinned; // passed over a feature point: stays there (6.4)
+      this->St[i] = Pinned;
       this->Sys->setKind(i, ParticleKind::Fixed);
     }
     return;
   }
-  // Crossing a chain point, keep only the part of the velocity along the new segment.
-  const Vec2 newTangent = this->Rails.tangent(slide.location);
-  this->Speed[i] = u * std::max(0.0, dot(tangent, newTangent));
-  this->Sys->velocities()[i] = this->Speed[i] * newTangent;
+  this->Sys->velocities()[i] = u * this->Rails.tangent(slide.location);
 }
 
+// A new push wave: the compression moved free vertices, so an edge between two free (or
+// halo) vertices may now cross a boundary. It can only when the boundary distances of its
+// ends add up to at most its length; then the regions of its ends decide, and the push
+// criterion picks the end to push.
+std::size_t Compressor::pushNewCrossings()
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const std::size_t nv = x.size();
+  std::vector<int> region(nv, -3);
+  const auto regionOf = [&](int v)
+  {
+    if (region[v] == -3)
+    {
+      region[v] = this->vertexRegion(v);
+    }
+    return region[v];
+  };
+  std::vector<std::uint8_t> push(nv, 0);
+  for (const std::array<int, 2>& e : this->Sys->mesh().edges)
+  {
+    this->poll(static_cast<std::size_t>(&e - this->Sys->mesh().edges.data()));
+    const int a = e[0], b = e[1];
+    const bool freeA = this->St[a] == Free, freeB = this->St[b] == Free;
+    if (!(freeA || freeB) || !(freeA || this->St[a] == Halo) || !(freeB || this->St[b] == Halo))
+    {
+      continue;
+    }
+    const int ra = regionOf(a), rb = regionOf(b);
+    if (ra == rb)
+    {
+      continue;
+    }
+    int pushed = a;
+    switch (this->Params.pushCriterion)
+    {
+      case PushCriterion::AllCandidates:
+        push[a] |= freeA;
+        push[b] |= freeB;
+        continue;
+      case PushCriterion::OneSide:
+        pushed = ra == -1 ? a : (rb == -1 ? b : (ra > rb ? a : b));
+        break;
+      case PushCriterion::Closest:
+      {
+        double da = 0.0, db = 0.0;
+        this->Rails.closest(x[a], this->RailScratch, &da);
+        this->Rails.closest(x[b], this->RailScratch, &db);
+        pushed = da <= db ? a : b;
+        break;
+      }
+    }
+    push[this->St[pushed] == Free ? pushed : (pushed == a ? b : a)] = 1;
+  }
+  // A face with two corners on curves and a free third corner whose barycentre lies in
+  // another region than that corner: the boundary bulges into the face between the two curve
+  // vertices (or a region too thin to hold a vertex runs through it); the free corner is
+  // pushed onto it. (Crossings between free vertices are the edges above.)
+  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  {
+    const std::array<int, 3>& tri = this->Tri[t];
+    int freeCorner = -1, onCurve = 0;
+    for (int v : tri)
+    {
+      if (this->onCurve(v))
+      {
+        ++onCurve;
+      }
+      else if (this->St[v] == Free)
+      {
+        freeCorner = v;
+      }
+    }
+    if (onCurve != 2 || freeCorner < 0 || push[freeCorner])
+    {
+      continue;
+    }
+    if (this->regionAt((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]])) != regionOf(freeCorner))
+    {
+      push[freeCorner] = 1;
+    }
+  }
+  std::size_t count = 0;
+  for (int i = 0; i < this->NumActive; ++i)
+  {
+    if (push[i] && this->St[i] == Free)
+    {
+      this->startPush(i, this->Rails.closest(x[i], this->RailScratch));
+      ++count;
+    }
+  }
+  return count;
+}
+
+// Whether flipping edge k of t gives two counter-clockwise triangles (a convex quad).
+bool Compressor::flipValid(int t, int k) const
+{
+  const int u = this->Nbr[t][k];
+  if (u < 0)
+  {
+    return false;
+  }
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
+  const std::array<int, 3>& tu = this->Tri[u];
+  const int j = tu[0] == b ? 0 : (tu[1] == b ? 1 : 2);
+  const int d = tu[(j + 2) % 3];
+  if (c == d || tu[(j + 1) % 3] != a)
+  {
+    return false;
+  }
+  const double scale = norm2(x[c] - x[d]);
+  return orient2d(x[c], x[a], x[d]) > 1e-12 * scale && orient2d(x[d], x[b], x[c]) > 1e-12 * scale;
+}
+
+// Flips edge k of t (shared with u = Nbr[t][k]): (a, b, c) + (b, a, d) -> (c, a, d) + (d, b, c).
 void Compressor::flip(int t, int k)
 {
   const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  int j = 0;
-  while (this->Tri[u][j] != b)
-  {
-    ++j;
-  }
+  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
   const int d = this->Tri[u][(j + 2) % 3];
   const int nBC = this->Nbr[t][(k + 1) % 3], nCA = this->Nbr[t][(k + 2) % 3];
   const int nAD = this->Nbr[u][(j + 1) % 3], nDB = this->Nbr[u][(j + 2) % 3];
   const int eAB = this->TriEdge[t][k], eBC = this->TriEdge[t][(k + 1) % 3];
   const int eCA = this->TriEdge[t][(k + 2) % 3];
   const int eAD = this->TriEdge[u][(j + 1) % 3], eDB = this->TriEdge[u][(j + 2) % 3];
-  // t = (c, a, d), u = (d, b, c)
   this->Tri[t] = { c, a, d };
   this->Nbr[t] = { nCA, nAD, u };
   this->TriEdge[t] = { eCA, eAD, eAB };
   this->Tri[u] = { d, b, c };
   this->Nbr[u] = { nDB, nBC, t };
   this->TriEdge[u] = { eDB, eBC, eAB };
-  auto relink = [&](int n, int from, int to) {
+  const auto relink = [&](int n, int from, int to)
+  {
     if (n >= 0)
     {
       for (int m = 0; m < 3; ++m)
@@ -1516,108 +1743,34 @@ void Compressor::flip(int t, int k)
   this->Level[t] = this->Level[u] = std::max(this->Level[t], this->Level[u]);
 }
 
-// Flips edge k of t if valid, improving and region-preserving. degenerateMode: t is a
-// collapsed triangle whose own region does not count.
-bool Compressor::tryFlip(int t, int k, bool degenerateMode)
+// Flips edge k of t if valid and improving the pair's smallest angle. degenerate: the paper's
+// rule (6.5), regions are not known yet; otherwise both faces and both new faces must have
+// the same region.
+bool Compressor::tryFlip(int t, int k, bool degenerate)
 {
-  const int u = this->Nbr[t][k];
-  if (u < 0)
+  if (!this->flipValid(t, k))
   {
     return false;
   }
   const std::vector<Vec2>& x = this->Sys->positions();
+  const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  int j = 0;
-  while (this->Tri[u][j] != b)
-  {
-    ++j;
-  }
+  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
   const int d = this->Tri[u][(j + 2) % 3];
-  if (c == d)
+  const double before = std::min(minAngleSine(x[a], x[b], x[c]), minAngleSine(x[b], x[a], x[d]));
+  const double after = std::min(minAngleSine(x[c], x[a], x[d]), minAngleSine(x[d], x[b], x[c]));
+  if (!(after > before * (1.0 + 1e-9) + 1e-12))
   {
     return false;
   }
-  const double area0 = orient2d(x[c], x[a], x[d]);
-  const double area1 = orient2d(x[d], x[b], x[c]);
-  const double scale = norm2(x[c] - x[d]);
-  if (!(area0 > 1e-12 * scale) || !(area1 > 1e-12 * scale))
-  {
-    return false;
-  }
-  const double before = std::min(this->triMinAngle(t), this->triMinAngle(u));
-  const double after = std::min(minimumAngle(x[c], x[a], x[d]), minimumAngle(x[d], x[b], x[c]));
-  if (!(after > before + kImprove))
-  {
-    return false;
-  }
-  if (degenerateMode)
-  {
-    // Paper 6.5: valid and improving is enough; faces are classified afterwards.
-    this->flip(t, k);
-    if (!this->Tag.empty())
-    {
-      this->Tag[t] = this->tagAt((1.0 / 3.0) * (x[c] + x[a] + x[d]));
-      this->Tag[u] = this->tagAt((1.0 / 3.0) * (x[d] + x[b] + x[c]));
-    }
-    return true;
-  }
-  // Optimization: the flip must not move a region boundary: both new faces keep the region
-  // of the two faces they replace.
-  if (this->Tag[t] != this->Tag[u] ||
-    this->tagAt((1.0 / 3.0) * (x[c] + x[a] + x[d])) != this->Tag[t] ||
-    this->tagAt((1.0 / 3.0) * (x[d] + x[b] + x[c])) != this->Tag[t])
+  if (!degenerate &&
+    (this->Tag[t] != this->Tag[u] || this->faceTag(c, a, d, x[c], x[a], x[d]) != this->Tag[t] ||
+      this->faceTag(d, b, c, x[d], x[b], x[c]) != this->Tag[t]))
   {
     return false;
   }
   this->flip(t, k);
   return true;
-}
-
-// Whether flipping edge k of t gives two counter-clockwise triangles (a convex quad).
-bool Compressor::flipValid(int t, int k) const
-{
-  const int u = this->Nbr[t][k];
-  if (u < 0)
-  {
-    return false;
-  }
-  const std::vector<Vec2>& x = this->Sys->positions();
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  int j = 0;
-  while (this->Tri[u][j] != b)
-  {
-    ++j;
-  }
-  const int d = this->Tri[u][(j + 2) % 3];
-  if (c == d)
-  {
-    return false;
-  }
-  const double scale = norm2(x[c] - x[d]);
-  return orient2d(x[c], x[a], x[d]) > 1e-12 * scale && orient2d(x[d], x[b], x[c]) > 1e-12 * scale;
-}
-
-// Flips the edges that blocked pushes (when valid), so the pushed vertices can go on.
-std::size_t Compressor::unblockPushes()
-{
-  std::size_t flips = 0;
-  for (const std::pair<int, int>& b : this->Blocked)
-  {
-    // Earlier flips of this batch may have changed the triangle: re-find the edge.
-    const int t = b.first;
-    if (this->flipValid(t, b.second))
-    {
-      this->flip(t, b.second);
-      ++flips;
-    }
-  }
-  this->Blocked.clear();
-  if (flips > 0)
-  {
-    this->rebuildStars();
-  }
-  this->Result.flips += flips;
-  return flips;
 }
 
 std::size_t Compressor::flipDegenerate()
@@ -1626,23 +1779,24 @@ std::size_t Compressor::flipDegenerate()
   {
     return 0;
   }
+  static const double smallSine = std::sin(kSmallAngle * 3.14159265358979323846 / 180.0);
   std::size_t flips = 0;
   const std::vector<Vec2>& x = this->Sys->positions();
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
+    this->poll(t);
+    const std::array<int, 3>& tri = this->Tri[t];
     const int ti = static_cast<int>(t);
-    const bool small = this->twiceArea(ti) < kSmallArea * this->RestTwice[t] ||
-      this->triMinAngle(ti) < kSmallAngle;
-    if (!small)
+    if (!(this->twiceArea(ti) < kSmallArea * this->RestTwice[t] ||
+          minAngleSine(x[tri[0]], x[tri[1]], x[tri[2]]) < smallSine))
     {
       continue;
     }
-    // Longest edge.
     int longest = 0;
     double best = -1.0;
     for (int k = 0; k < 3; ++k)
     {
-      const double l = norm2(x[this->Tri[t][k]] - x[this->Tri[t][(k + 1) % 3]]);
+      const double l = norm2(x[tri[k]] - x[tri[(k + 1) % 3]]);
       if (l > best)
       {
         best = l;
@@ -1659,89 +1813,124 @@ std::size_t Compressor::flipDegenerate()
   return flips;
 }
 
+// Flips the edges that blocked pushes (when valid), so the pushed vertices can go on.
+std::size_t Compressor::unblockPushes()
+{
+  std::size_t flips = 0;
+  for (const std::pair<int, int>& b : this->Blocked)
+  {
+    if (this->flipValid(b.first, b.second))
+    {
+      this->flip(b.first, b.second);
+      ++flips;
+    }
+  }
+  this->Blocked.clear();
+  if (flips > 0)
+  {
+    this->rebuildStars();
+  }
+  this->Result.flips += flips;
+  return flips;
+}
+
+// Sleeping particles: the particles that moved by more than kSleep local lengths since
+// the last update, or are pushed, and their neighbours stay awake; the others are not
+// integrated and springs between sleeping particles are not evaluated until they wake.
+// Returns the number of moving particles.
+std::size_t Compressor::refreshAwake(std::vector<Vec2>& windowStart)
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const std::size_t nv = x.size();
+  std::vector<std::uint8_t> awake(nv, 0);
+  std::size_t moving = 0;
+  for (int i = 0; i < this->NumActive; ++i)
+  {
+    const bool seed =
+      this->St[i] == Pushing || norm(x[i] - windowStart[i]) > kSleep * this->Sys->localLength(i);
+    if (!seed)
+    {
+      continue;
+    }
+    ++moving;
+    for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
+    {
+      for (int v : this->Tri[this->StarItems[s]])
+      {
+        awake[v] = v < this->NumActive;
+      }
+    }
+  }
+  this->Sys->setAwake(awake);
+  windowStart = x;
+  return moving;
+}
+
 void Compressor::simulate()
 {
   const double dt = this->Params.timeStep;
   const int maxIt = this->Params.maxIterations;
-  int settled = 0;
-  int it = 0;
-  int waves = 0;
+  const int n = this->NumActive;
+  int settled = 0, waves = 0, it = 0;
   bool wasPushing = true;
+  std::vector<Vec2> windowStart = this->Sys->positions();
   for (; it < maxIt; ++it)
   {
-    if (it % 4 == 0)
-    {
-      this->Progress.report(0.1 + 0.6 * static_cast<double>(it) / maxIt, "compressing the grid");
-    }
+    this->At = 0.1 + 0.6 * static_cast<double>(it) / maxIt;
+    this->Progress.report(this->At, this->Stage);
     this->Sys->computeForces();
     double largest = this->Sys->integrate(dt, &this->TheGuard);
     bool pushing = false;
-    const int n = this->NumActive;
     for (int i = 0; i < n; ++i)
     {
       if (this->St[i] == Pushing)
       {
         const Vec2 before = this->Sys->positions()[i];
         this->pushStep(i, dt);
-        largest = std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
-        pushing |= this->St[i] == Pushing && this->Stuck[i] < kStuckSteps;
+        largest =
+          std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
+        pushing |= this->St[i] == Pushing && ++this->PushSteps[i] < this->Budget[i];
       }
     }
     if (!this->Blocked.empty())
     {
       this->unblockPushes();
     }
+    bool wave = false;
     if (!pushing && wasPushing && waves < kMaxWaves)
     {
       ++waves;
-      pushing = this->pushNewCrossings() > 0;
+      pushing = wave = this->pushNewCrossings() > 0;
+      waves = wave ? waves : kMaxWaves; // nothing new: the mesh is settled on the curves
     }
     wasPushing = pushing;
-    double largestRail = 0.0;
     if (!pushing)
     {
       for (int i = 0; i < n; ++i)
       {
-        if (this->St[i] == Rail)
+        if (this->St[i] == Rail && this->Sys->awake(i))
         {
           const Vec2 before = this->Sys->positions()[i];
           this->railStep(i, dt);
-          largestRail = std::max(largestRail, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
+          largest =
+            std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
         }
       }
     }
-    if (std::getenv("STRATA_DEBUG") && it % 50 == 0)
-    {
-      static std::vector<Vec2> snap;
-      double net = 0.0; int arg = -1;
-      const std::vector<Vec2>& x = this->Sys->positions();
-      if (snap.size() == x.size())
-        for (int i = 0; i < n; ++i)
-        {
-          const double d = norm(x[i] - snap[i]) / this->Sys->localLength(i);
-          if (d > net) { net = d; arg = i; }
-        }
-      snap = x;
-      std::fprintf(stderr, "  free %g rail %g net50 %g (vertex %d state %d)\n", largest, largestRail, net, arg, arg >= 0 ? this->St[arg] : -1);
-    }
-    largest = std::max(largest, largestRail);
     if ((it + 1) % this->Params.flipInterval == 0)
     {
       this->flipDegenerate();
     }
-    settled = (!pushing && largest < kSettled) ? settled + 1 : 0;
-    if (std::getenv("STRATA_DEBUG") && it % 50 == 0)
+    if (wave || (it + 1) % kWakeInterval == 0)
     {
-      int np = 0, ns = 0, nr = 0, npin = 0;
-      for (int i = 0; i < n; ++i)
+      const std::size_t moving = this->refreshAwake(windowStart);
+      if (!pushing && waves >= kMaxWaves && moving <= static_cast<std::size_t>(kQuietFraction * n))
       {
-        np += this->St[i] == Pushing;
-        ns += this->St[i] == Pushing && this->Stuck[i] >= kStuckSteps;
-        nr += this->St[i] == Rail;
-        npin += this->St[i] == Pinned;
+        ++it;
+        break; // nothing moves any more
       }
-      std::fprintf(stderr, "it %d pushing %d stuck %d rail %d pinned %d largest %g flips %zu\n", it, np, ns, nr, npin, largest, this->Result.flips);
     }
+    settled = (!pushing && largest < kSettled) ? settled + 1 : 0;
     if (settled >= kSettledSteps)
     {
       ++it;
@@ -1750,133 +1939,315 @@ void Compressor::simulate()
   }
   this->Result.iterations = it;
   this->flipDegenerate();
-  if (std::getenv("STRATA_DEBUG"))
+}
+
+//------------------------------------------------------------------------------
+// Faces.
+
+// Region of local vertex i (kOnCurve for vertices on a curve). A vertex that moved less than
+// its grid position's distance to the boundary stayed in the grid vertex's region.
+int Compressor::vertexRegion(int i)
+{
+  if (this->onCurve(i))
   {
-    const std::vector<Vec2>& x = this->Sys->positions();
-    for (int i = 0; i < this->NumActive; ++i)
+    return kOnCurve;
+  }
+  const int g = this->Global[i];
+  const Vec2 x = this->Sys->positions()[i];
+  if (this->Cls.vertexClass[g] != VertexBoundary &&
+    norm(x - this->Grid.points[g]) < this->gridDistance(g))
+  {
+    return this->Cls.vertexRegion[g];
+  }
+  return this->regionAt(x);
+}
+
+// Region of the face (a, b, c) at the given positions: the common region of its corners off
+// the curves, else (all corners on curves, or corners in different regions) the region of its
+// barycentre.
+int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
+{
+  int region = kOnCurve;
+  for (int v : { a, b, c })
+  {
+    const int r = this->VRegion[v];
+    if (r == kOnCurve)
     {
-      if (this->St[i] != Pushing)
-        continue;
-      std::fprintf(stderr, "stuck %d at (%.1f %.1f) target (%.1f %.1f)\n", i, x[i].x + this->TheModel.origin.x, x[i].y + this->TheModel.origin.y, this->Target[i].x + this->TheModel.origin.x, this->Target[i].y + this->TheModel.origin.y);
-      for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
-      {
-        const int t = this->StarItems[s];
-        const std::array<int, 3>& tri = this->Tri[t];
-        const int k = tri[0] == i ? 0 : (tri[1] == i ? 1 : 2);
-        const Vec2 a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
-        std::fprintf(stderr, "   tri %d others (%.1f %.1f) [%d] (%.1f %.1f) [%d] area-after %.3g min %.3g nbr-opp %d minang %.2f\n", t, a.x + this->TheModel.origin.x, a.y + this->TheModel.origin.y, this->St[tri[(k + 1) % 3]], b.x + this->TheModel.origin.x, b.y + this->TheModel.origin.y, this->St[tri[(k + 2) % 3]], cross(b - a, this->Target[i] - a), this->MinTwice[t], this->Nbr[t][(k + 1) % 3], this->triMinAngle(t));
-      }
+      continue;
     }
+    if (region == kOnCurve)
+    {
+      region = r;
+    }
+    else if (region != r)
+    {
+      region = kOnCurve;
+      break;
+    }
+  }
+  return region != kOnCurve ? region : this->regionAt((1.0 / 3.0) * (pa + pb + pc));
+}
+
+int Compressor::faceTag(int t)
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const std::array<int, 3>& tri = this->Tri[t];
+  return this->faceTag(tri[0], tri[1], tri[2], x[tri[0]], x[tri[1]], x[tri[2]]);
+}
+
+void Compressor::classifyFaces()
+{
+  const std::size_t nv = this->Global.size();
+  this->VRegion.resize(nv);
+  for (std::size_t i = 0; i < nv; ++i)
+  {
+    if (i % 8192 == 0)
+    {
+      this->Progress.report(0.7 + 0.05 * static_cast<double>(i) / nv, "classifying faces");
+    }
+    this->VRegion[i] = this->vertexRegion(static_cast<int>(i));
+  }
+  this->Tag.resize(this->Tri.size());
+  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  {
+    if (t % 8192 == 0)
+    {
+      this->Progress.report(
+        0.75 + 0.05 * static_cast<double>(t) / this->Tri.size(), "classifying faces");
+    }
+    this->Tag[t] = this->faceTag(static_cast<int>(t));
+  }
+}
+
+void Compressor::retagStar(int i)
+{
+  for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
+  {
+    this->Tag[this->StarItems[s]] = this->faceTag(this->StarItems[s]);
   }
 }
 
 //------------------------------------------------------------------------------
-// Faces and optimization.
-void Compressor::classifyFaces()
+// Optimization.
+
+// Local vertices on an edge between faces of different regions that are not on a curve.
+std::vector<int> Compressor::offCurveBoundaryVertices() const
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
-  this->Tag.resize(this->Tri.size());
+  std::vector<int> off;
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
-    if (t % 4096 == 0)
+    this->poll(t);
+    for (int k = 0; k < 3; ++k)
     {
-      this->Progress.report(0.7 + 0.1 * static_cast<double>(t) / this->Tri.size(), "classifying faces");
-    }
-    const std::array<int, 3>& tri = this->Tri[t];
-    this->Tag[t] = this->tagAt((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]));
-  }
-}
-
-// Moves vertex i as far as the restrain test allows toward the rail location `target`
-// (halving the step on refusal); true when it got there.
-bool Compressor::moveTowards(int i, const BoundaryRails::Location& target)
-{
-  std::vector<Vec2>& x = this->Sys->positions();
-  const Vec2 goal = this->Rails.position(target);
-  for (int attempt = 0; attempt < 4; ++attempt)
-  {
-    if (this->accepts(i, goal))
-    {
-      x[i] = goal;
-      return true;
-    }
-    double f = 0.5;
-    bool moved = false;
-    for (int h = 0; h < 8 && !moved; ++h, f *= 0.5)
-    {
-      const Vec2 to = x[i] + f * (goal - x[i]);
-      if (this->accepts(i, to))
+      if (this->neighbourTag(static_cast<int>(t), k) != this->Tag[t])
       {
-        x[i] = to;
-        moved = true;
-      }
-    }
-    if (!moved)
-    {
-      return false;
-    }
-  }
-  return false;
-}
-
-std::size_t Compressor::snapBoundaryVertices()
-{
-  std::size_t snapped = 0;
-  for (int round = 0; round < 3; ++round)
-  {
-    std::vector<int> off;
-    for (std::size_t t = 0; t < this->Tri.size(); ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        if (this->neighbourTag(static_cast<int>(t), k) == this->Tag[t])
-        {
-          continue;
-        }
         for (int v : { this->Tri[t][k], this->Tri[t][(k + 1) % 3] })
         {
-          if (v < this->NumActive && (this->St[v] == Free || this->St[v] == Pushing))
+          if (!this->onCurve(v))
           {
             off.push_back(v);
           }
         }
       }
     }
-    std::sort(off.begin(), off.end());
-    off.erase(std::unique(off.begin(), off.end()), off.end());
-    if (off.empty())
+  }
+  std::sort(off.begin(), off.end());
+  off.erase(std::unique(off.begin(), off.end()), off.end());
+  return off;
+}
+
+// Places vertex i on the rail location `target` if the restrain test allows with
+// minFraction of the usual area threshold; triangles that block the move have their edge
+// opposite i flipped (when valid) and the move is tried again.
+bool Compressor::placeOnCurve(int i, const Location& target, double minFraction)
+{
+  std::vector<Vec2>& x = this->Sys->positions();
+  const Vec2 goal = this->Rails.position(target);
+  for (int attempt = 0; attempt < 3; ++attempt)
+  {
+    std::vector<std::pair<int, int>> blocking;
+    for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
     {
-      break;
+      const int t = this->StarItems[s];
+      const std::array<int, 3>& tri = this->Tri[t];
+      const int k = tri[0] == i ? 0 : (tri[1] == i ? 1 : 2);
+      const Vec2 a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
+      const double after = cross(b - a, goal - a);
+      if (!(after > 0.0) ||
+        (after < minFraction * this->MinTwice[t] && after < cross(b - a, x[i] - a)))
+      {
+        blocking.push_back({ t, (k + 1) % 3 });
+      }
     }
+    if (blocking.empty())
+    {
+      x[i] = goal;
+      return true;
+    }
+    bool flipped = false;
+    for (const std::pair<int, int>& e : blocking)
+    {
+      if (this->flipValid(e.first, e.second))
+      {
+        const int u = this->Nbr[e.first][e.second];
+        this->flip(e.first, e.second);
+        this->Tag[e.first] = this->faceTag(e.first);
+        this->Tag[u] = this->faceTag(u);
+        ++this->Result.flips;
+        flipped = true;
+      }
+    }
+    if (!flipped)
+    {
+      return false;
+    }
+    this->rebuildStars();
+  }
+  return false;
+}
+
+// Moves the vertices of the region boundary that are off the curves onto a curve.
+std::size_t Compressor::snapBoundaryVertices()
+{
+  std::size_t snapped = 0;
+  for (int round = 0; round < 3; ++round)
+  {
+    const std::vector<int> off = this->offCurveBoundaryVertices();
     std::size_t moved = 0;
     for (int v : off)
     {
-      const BoundaryRails::Location target = this->St[v] == Pushing
-        ? this->Loc[v]
-        : this->Rails.closest(this->Sys->positions()[v], this->RailScratch);
-      if (!this->moveTowards(v, target))
+      this->poll(static_cast<std::size_t>(&v - off.data()));
+      if (v >= this->NumActive)
       {
-        if (std::getenv("STRATA_DEBUG"))
+        continue; // halo vertices do not move
+      }
+      const Vec2 xv = this->Sys->positions()[v];
+      const double h = this->Sys->localLength(v);
+      // Candidate places: the closest point (or the junction a push was heading for), the
+      // push target, and half and a quarter of an edge length beside them; nearest first.
+      std::vector<Location> places;
+      if (this->St[v] == Pushing && this->junctionBound(v))
+      {
+        places.push_back(this->Loc[v]);
+      }
+      else
+      {
+        const Location c0 = this->Rails.closest(xv, this->RailScratch);
+        for (const Location& from : { c0, this->St[v] == Pushing ? this->Loc[v] : c0 })
         {
-          const Vec2 p = this->Sys->positions()[v] + this->TheModel.origin;
-          const Vec2 q = this->Rails.position(target) + this->TheModel.origin;
-          std::fprintf(stderr, "snap failed round %d vertex %d state %d at (%.1f %.1f) target (%.1f %.1f)\n", round, v, this->St[v], p.x, p.y, q.x, q.y);
+          for (double f : { 0.0, 0.25, -0.25, 0.5, -0.5 })
+          {
+            const Location l = this->Rails.slide(from, f * h).location;
+            if (!this->nearClaimedStop(l, 0.1 * h))
+            {
+              places.push_back(l);
+            }
+          }
+        }
+        std::stable_sort(places.begin(),
+          places.end(),
+          [&](const Location& a, const Location& b)
+          { return norm2(this->Rails.position(a) - xv) < norm2(this->Rails.position(b) - xv); });
+      }
+      bool placed = false;
+      Location where;
+      for (double fraction : { 1.0, kLastResort })
+      {
+        for (std::size_t k = 0; k < places.size() && !placed; ++k)
+        {
+          placed = this->placeOnCurve(v, places[k], fraction);
+          where = places[k];
+        }
+        if (placed)
+        {
+          break;
+        }
+      }
+      if (!placed && this->St[v] == Pushing && this->junctionBound(v))
+      {
+        // The junction this vertex was heading for: let a neighbour take it instead; the
+        // vertex itself is then placed like any other in the next round.
+        const Location junction = this->Loc[v];
+        std::vector<int> ring;
+        for (int s = this->StarStart[v]; s < this->StarStart[v + 1]; ++s)
+        {
+          for (int w : this->Tri[this->StarItems[s]])
+          {
+            if (w != v && w < this->NumActive && (this->St[w] == Free || this->St[w] == Rail))
+            {
+              ring.push_back(w);
+            }
+          }
+        }
+        std::sort(ring.begin(),
+          ring.end(),
+          [&](int a, int b)
+          {
+            return norm2(this->Sys->positions()[a] - this->Target[v]) <
+              norm2(this->Sys->positions()[b] - this->Target[v]);
+          });
+        for (int w : ring)
+        {
+          if (this->placeOnCurve(w, junction, 1.0))
+          {
+            this->St[w] = Pinned;
+            this->Loc[w] = junction;
+            this->Sys->setKind(w, ParticleKind::Fixed);
+            this->VRegion[w] = kOnCurve;
+            this->retagStar(w);
+            this->JunctionTarget[this->Global[v]] = -1;
+            this->PinOnArrival[v] = 0;
+            ++moved;
+            break;
+          }
         }
         continue;
       }
-      const int point = this->Rails.pointAt(target);
-      const bool pin = (this->St[v] == Pushing && this->PinOnArrival[v]) ||
-        (point >= 0 && this->Rails.isStop(target.chain, point));
-      this->St[v] = pin ? Pinned : Rail;
-      this->Loc[v] = target;
-      this->Sys->setKind(v, pin ? ParticleKind::Fixed : ParticleKind::Driven);
-      ++moved;
-      const std::vector<Vec2>& x = this->Sys->positions();
-      for (int s = this->StarStart[v]; s < this->StarStart[v + 1]; ++s)
+      if (!placed)
       {
-        const std::array<int, 3>& tri = this->Tri[this->StarItems[s]];
-        this->Tag[this->StarItems[s]] = this->tagAt((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]));
+        // Neither end of an edge joining i to an off-curve vertex of another region could be
+        // placed: flip that edge away when the flip is valid.
+        bool flipped = false;
+        for (int s = this->StarStart[v]; s < this->StarStart[v + 1] && !flipped; ++s)
+        {
+          const int t = this->StarItems[s];
+          const std::array<int, 3>& tri = this->Tri[t];
+          for (int k = 0; k < 3 && !flipped; ++k)
+          {
+            const int a = tri[k], b = tri[(k + 1) % 3];
+            if ((a == v || b == v) && this->VRegion[a] != kOnCurve &&
+              this->VRegion[b] != kOnCurve && this->VRegion[a] != this->VRegion[b] &&
+              this->flipValid(t, k))
+            {
+              const int u = this->Nbr[t][k];
+              this->flip(t, k);
+              this->Tag[t] = this->faceTag(t);
+              this->Tag[u] = this->faceTag(u);
+              ++this->Result.flips;
+              flipped = true;
+            }
+          }
+        }
+        if (flipped)
+        {
+          this->rebuildStars();
+          ++moved;
+        }
+        continue;
       }
+      const int point = this->Rails.pointAt(where);
+      const bool pin = (this->St[v] == Pushing && this->PinOnArrival[v]) ||
+        (point >= 0 && this->Rails.isStop(where.chain, point));
+      if (point >= 0 && pin)
+      {
+        this->Claimed[this->Rails.chain(where.chain).nodes[point]] = 1;
+      }
+      this->St[v] = pin ? Pinned : Rail;
+      this->Loc[v] = where;
+      this->Sys->setKind(v, pin ? ParticleKind::Fixed : ParticleKind::Driven);
+      this->VRegion[v] = kOnCurve;
+      this->retagStar(v);
+      ++moved;
     }
     snapped += moved;
     if (moved == 0)
@@ -1889,20 +2260,21 @@ std::size_t Compressor::snapBoundaryVertices()
 
 std::size_t Compressor::optimizeFlips()
 {
+  static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t flips = 0;
   for (int pass = 0; pass < 8; ++pass)
   {
     std::size_t now = 0;
     for (std::size_t t = 0; t < this->Tri.size(); ++t)
     {
+      this->poll(t);
       for (int k = 0; k < 3; ++k)
       {
         const int u = this->Nbr[t][k];
-        if (u < 0 || this->Tag[u] != this->Tag[t])
-        {
-          continue;
-        }
-        if (this->tryFlip(static_cast<int>(t), k, false))
+        if (u >= 0 && this->Tag[u] == this->Tag[t] &&
+          (this->triMinAngleSine(static_cast<int>(t)) < goodSine ||
+            this->triMinAngleSine(u) < goodSine) &&
+          this->tryFlip(static_cast<int>(t), k, false))
         {
           ++now;
           break;
@@ -1925,74 +2297,20 @@ std::size_t Compressor::optimizeFlips()
 double Compressor::starMinAngle(int i, Vec2 p) const
 {
   const std::vector<Vec2>& x = this->Sys->positions();
-  double m = 180.0;
+  double m = 1.0;
   for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
   {
     const std::array<int, 3>& tri = this->Tri[this->StarItems[s]];
-    const Vec2 a = tri[0] == i ? p : x[tri[0]];
-    const Vec2 b = tri[1] == i ? p : x[tri[1]];
-    const Vec2 c = tri[2] == i ? p : x[tri[2]];
-    m = std::min(m, minimumAngle(a, b, c));
+    m = std::min(m,
+      minAngleSine(
+        tri[0] == i ? p : x[tri[0]], tri[1] == i ? p : x[tri[1]], tri[2] == i ? p : x[tri[2]]));
   }
-  return m;
-}
-
-// Whether every triangle around i keeps its region when i moves to p.
-bool Compressor::starTagsKept(int i, Vec2 p)
-{
-  const std::vector<Vec2>& x = this->Sys->positions();
-  const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
-  bool uniform = true;
-  double reach = 0.0;
-  for (int s = s0; s < s1; ++s)
-  {
-    const int t = this->StarItems[s];
-    uniform &= this->Tag[t] == this->Tag[this->StarItems[s0]];
-    for (int v : this->Tri[t])
-    {
-      reach = std::max(reach, norm2(x[v] - p));
-    }
-  }
-  if (uniform)
-  {
-    // No boundary within the disk around p that holds the new star: one region, the same as
-    // before (the old star shares the ring vertices with the new one).
-    double d = 0.0;
-    this->Rails.closest(p, this->RailScratch, &d);
-    const double dOld = [&] {
-      double e = 0.0;
-      this->Rails.closest(x[i], this->RailScratch, &e);
-      return e;
-    }();
-    double reachOld = 0.0;
-    for (int s = s0; s < s1; ++s)
-    {
-      for (int v : this->Tri[this->StarItems[s]])
-      {
-        reachOld = std::max(reachOld, norm2(x[v] - x[i]));
-      }
-    }
-    if (d * d > reach && dOld * dOld > reachOld)
-    {
-      return true;
-    }
-  }
-  for (int s = s0; s < s1; ++s)
-  {
-    const std::array<int, 3>& tri = this->Tri[this->StarItems[s]];
-    const Vec2 a = tri[0] == i ? p : x[tri[0]];
-    const Vec2 b = tri[1] == i ? p : x[tri[1]];
-    const Vec2 c = tri[2] == i ? p : x[tri[2]];
-    if (this->tagAt((1.0 / 3.0) * (a + b + c)) != this->Tag[this->StarItems[s]])
-    {
-      return false;
-    }
-  }
-  return true;
+  return m; // the sine of the smallest angle
 }
 
 std::size_t Compressor::smooth()
 {
+  static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
   std::vector<Vec2>& x = this->Sys->positions();
   for (int i = 0; i < this->NumActive; ++i)
@@ -2002,30 +2320,23 @@ std::size_t Compressor::smooth()
     {
       continue;
     }
-    if (this->St[i] == Free)
-    {
-      // A free vertex between faces of different regions is on the region boundary: moving it
-      // would move the boundary off the curves.
-      bool uniform = true;
-      for (int s = s0 + 1; s < s1 && uniform; ++s)
-      {
-        uniform = this->Tag[this->StarItems[s]] == this->Tag[this->StarItems[s0]];
-      }
-      if (!uniform)
-      {
-        continue;
-      }
-    }
     const double m0 = this->starMinAngle(i, x[i]);
-    if (m0 >= 44.0)
+    if (m0 >= skipSine)
     {
       continue;
     }
-    Vec2 bestP = x[i];
-    double bestM = m0;
-    BoundaryRails::Location bestLoc = this->Loc[i];
     if (this->St[i] == Free)
     {
+      // Only vertices inside one region (all faces of its region) move.
+      bool inside = true;
+      for (int s = s0; s < s1 && inside; ++s)
+      {
+        inside = this->Tag[this->StarItems[s]] == this->VRegion[i];
+      }
+      if (!inside)
+      {
+        continue;
+      }
       Vec2 c{};
       int count = 0;
       for (int s = s0; s < s1; ++s)
@@ -2040,40 +2351,92 @@ std::size_t Compressor::smooth()
         }
       }
       c = (1.0 / count) * c;
+      // Candidates: toward the centroid of the neighbours, and toward each neighbour; the one
+      // with the largest smallest angle wins if it beats the current position.
+      std::vector<Vec2>& candidates = this->Candidates;
+      candidates.clear();
       for (double f : { 1.0, 0.5, 0.25 })
       {
-        const Vec2 p = x[i] + f * (c - x[i]);
-        const double m = this->starMinAngle(i, p);
-        if (m > bestM + kImprove && this->accepts(i, p))
-        {
-          bestM = m;
-          bestP = p;
-        }
+        candidates.push_back(x[i] + f * (c - x[i]));
       }
-    }
-    else
-    {
-      const double h = this->Sys->localLength(i);
-      for (double f : { 0.3, -0.3, 0.15, -0.15, 0.05, -0.05 })
+      for (int s = s0; s < s1; ++s)
       {
-        const BoundaryRails::Slide sl = this->Rails.slide(this->Loc[i], f * h);
-        if (sl.stopped)
+        for (int v : this->Tri[this->StarItems[s]])
         {
-          continue;
-        }
-        const Vec2 p = this->Rails.position(sl.location);
-        const double m = this->starMinAngle(i, p);
-        if (m > bestM + kImprove && this->accepts(i, p))
-        {
-          bestM = m;
-          bestP = p;
-          bestLoc = sl.location;
+          if (v != i)
+          {
+            candidates.push_back(x[i] + 0.3 * (x[v] - x[i]));
+            candidates.push_back(x[i] + 0.1 * (x[v] - x[i]));
+          }
         }
       }
+      double bestM = m0 * (1.0 + 1e-9) + 1e-12;
+      Vec2 best = x[i];
+      for (const Vec2& p : candidates)
+      {
+        const double m = this->starMinAngle(i, p);
+        if (m > bestM && this->accepts(i, p))
+        {
+          bestM = m;
+          best = p;
+        }
+      }
+      if (best == x[i])
+      {
+        continue;
+      }
+      // Same region: within the boundary-free disk around x[i], or by a query.
+      double reach = 0.0;
+      this->Rails.closest(x[i], this->RailScratch, &reach);
+      if (norm(best - x[i]) < reach || this->regionAt(best) == this->VRegion[i])
+      {
+        x[i] = best;
+        ++moves;
+      }
+      continue;
     }
-    if (bestM > m0 && this->starTagsKept(i, bestP))
+    // A curve vertex slides along its chain (not onto a stop point); faces with every corner
+    // on curves take the region of their barycentre and must keep it.
+    const double h = this->Sys->localLength(i);
+    double bestM = m0 * (1.0 + 1e-9) + 1e-12;
+    Location bestLoc;
+    bool found = false;
+    for (double f : { 0.3, -0.3, 0.15, -0.15, 0.05, -0.05 })
     {
-      x[i] = bestP;
+      const BoundaryRails::Slide sl = this->Rails.slide(this->Loc[i], f * h);
+      if (sl.stopped)
+      {
+        continue;
+      }
+      const Vec2 p = this->Rails.position(sl.location);
+      const double m = this->starMinAngle(i, p);
+      if (m > bestM && this->accepts(i, p))
+      {
+        bestM = m;
+        bestLoc = sl.location;
+        found = true;
+      }
+    }
+    if (!found)
+    {
+      continue;
+    }
+    const Vec2 p = this->Rails.position(bestLoc);
+    bool kept = true;
+    for (int s = s0; s < s1 && kept; ++s)
+    {
+      const int t = this->StarItems[s];
+      const std::array<int, 3>& tri = this->Tri[t];
+      kept = this->faceTag(tri[0],
+               tri[1],
+               tri[2],
+               tri[0] == i ? p : x[tri[0]],
+               tri[1] == i ? p : x[tri[1]],
+               tri[2] == i ? p : x[tri[2]]) == this->Tag[t];
+    }
+    if (kept)
+    {
+      x[i] = p;
       this->Loc[i] = bestLoc;
       ++moves;
     }
@@ -2083,6 +2446,14 @@ std::size_t Compressor::smooth()
 
 void Compressor::writeBack()
 {
+  // Faces outside the simulated zone did not move and no boundary crosses their edges (their
+  // corners are no candidates), so their corners lie in one region: they take it, even when
+  // a whole island smaller than the face lies inside (aliasing, paper 6.6).
+  for (std::size_t t = 0; t < this->Result.triangles.size(); ++t)
+  {
+    this->poll(t);
+    this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
+  }
   const std::vector<Vec2>& x = this->Sys->positions();
   for (std::size_t i = 0; i < this->Global.size(); ++i)
   {
@@ -2091,8 +2462,9 @@ void Compressor::writeBack()
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
     const int g = this->TriGlobal[t];
-    this->Result.triangles[g] = { this->Global[this->Tri[t][0]], this->Global[this->Tri[t][1]],
-      this->Global[this->Tri[t][2]] };
+    this->Result.triangles[g] = {
+      this->Global[this->Tri[t][0]], this->Global[this->Tri[t][1]], this->Global[this->Tri[t][2]]
+    };
     this->Result.triangleLevel[g] = this->Level[t];
     this->Result.triangleRegion[g] = this->Tag[t];
   }
@@ -2115,36 +2487,45 @@ void Compressor::writeBack()
     }
     this->Result.vertexState[this->Global[i]] = s;
   }
+  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  {
+    this->Result.degenerateTriangles += !(this->twiceArea(static_cast<int>(t)) > 0.0);
+  }
+  this->Result.offCurveBoundaryVertices = this->offCurveBoundaryVertices().size();
 }
 
 void Compressor::run()
 {
   Clock::time_point t0 = Clock::now();
   this->Points = this->Grid.points;
-  this->Progress.report(0.0, "compressing the grid");
+  this->Progress.report(0.0, this->Stage);
   this->buildGlobalStars();
   this->choosePushes();
   this->placeJunctions();
   this->buildSubMesh();
   this->Result.secondsPerStage.push_back({ "compression set-up", secondsSince(t0) });
-  this->Progress.report(0.1, "compressing the grid");
 
   t0 = Clock::now();
+  this->Progress.report(0.1, "compressing the grid");
   this->simulate();
   this->Result.secondsPerStage.push_back({ "simulation", secondsSince(t0) });
 
   t0 = Clock::now();
+  this->At = 0.7;
   this->classifyFaces();
   this->Result.secondsPerStage.push_back({ "face classification", secondsSince(t0) });
 
-  t0 = Clock::now();
   if (this->Params.optimize)
   {
-    this->Progress.report(0.8, "optimizing the mesh");
-    this->Result.snappedVertices += this->snapBoundaryVertices();
+    t0 = Clock::now();
+    this->At = 0.8;
+    this->Stage = "optimizing the mesh";
+    this->Progress.report(this->At, this->Stage);
+    this->Result.snappedVertices = this->snapBoundaryVertices();
     for (int pass = 0; pass < this->Params.optimizationPasses; ++pass)
     {
-      this->Progress.report(0.8 + 0.2 * pass / this->Params.optimizationPasses, "optimizing the mesh");
+      this->At = 0.8 + 0.2 * pass / this->Params.optimizationPasses;
+      this->Progress.report(this->At, this->Stage);
       const std::size_t flips = this->optimizeFlips();
       const std::size_t moves = this->smooth();
       this->Result.optimizationFlips += flips;
@@ -2156,37 +2537,17 @@ void Compressor::run()
     }
     this->Result.secondsPerStage.push_back({ "optimization", secondsSince(t0) });
   }
-  // Off-curve vertices of the region boundary, degenerate triangles.
-  {
-    std::vector<std::uint8_t> off(this->Global.size(), 0);
-    for (std::size_t t = 0; t < this->Tri.size(); ++t)
-    {
-      if (!(this->twiceArea(static_cast<int>(t)) > 0.0))
-      {
-        ++this->Result.degenerateTriangles;
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        if (this->neighbourTag(static_cast<int>(t), k) == this->Tag[t])
-        {
-          continue;
-        }
-        for (int v : { this->Tri[t][k], this->Tri[t][(k + 1) % 3] })
-        {
-          off[v] |= !(this->St[v] == Rail || this->St[v] == Pinned);
-        }
-      }
-    }
-    this->Result.offCurveBoundaryVertices = static_cast<std::size_t>(std::count(off.begin(), off.end(), 1));
-  }
   this->writeBack();
   this->Progress.report(1.0, "compressing the grid");
 }
 
 } // namespace
 
-CompressionResult compress(const TriangleMesh& grid, const Classification& classification,
-  const Model& model, const DistanceField& field, const CompressionParams& params,
+CompressionResult compress(const TriangleMesh& grid,
+  const Classification& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params,
   const ProgressReporter& progress)
 {
   validate(params);
@@ -2215,7 +2576,8 @@ CompressionResult compress(const TriangleMesh& grid, const Classification& class
   CompressionResult result;
   result.points = grid.points;
   result.triangles = grid.triangles;
-  result.triangleLevel = grid.triangleLevel.size() == nt ? grid.triangleLevel : std::vector<int>(nt, 0);
+  result.triangleLevel =
+    grid.triangleLevel.size() == nt ? grid.triangleLevel : std::vector<int>(nt, 0);
   result.triangleRegion = classification.cellRegion;
   result.vertexState.assign(np, VertexUntouched);
   if (nt == 0 || model.empty())

@@ -45,10 +45,11 @@ struct CompressionParams
   /// about 44 steps.
   double timeStep = 0.1;
   /// Steps of the simulation (push, then scattering) at most; it stops earlier when every
-  /// pushed vertex has arrived or is stuck and nothing moves by more than 1e-3 h per step.
-  /// Range [0, 1e6]; 0 skips the simulation (pushes and rails then only happen in the final
-  /// snap of stuck vertices).
-  int maxIterations = 600;
+  /// push is over and fewer than 0.5% of the simulated vertices still move (by more than
+  /// 0.03 h in 10 steps; the others sleep, see SpringSystem::setAwake), or nothing moves by
+  /// 1e-3 h for 10 steps. Range [0, 1e6]; 0 skips
+  /// the simulation (boundary vertices are then only placed by the optimization's snap).
+  int maxIterations = 300;
   /// Default: OneSide (the paper's best).
   PushCriterion pushCriterion = PushCriterion::OneSide;
   /// Speed of pushed vertices in local edge lengths per unit time: with the default time step
@@ -65,11 +66,12 @@ struct CompressionParams
   int flipInterval = 10;
   /// Vertices within this many edge rings of a candidate (an end point of an intersection
   /// edge or a junction vertex) are simulated; the rest of the grid is fixed. Range [1, 16].
-  int activeRings = 3;
-  /// Beyond the paper: after the simulation, snap stuck boundary vertices onto their curve,
-  /// then flip edges and smooth vertices (free ones in the plane, boundary ones along their
-  /// curve) toward larger minimum angles, never changing a face's region and never lowering
-  /// the smallest angle around the vertex or edge touched.
+  int activeRings = 2;
+  /// Beyond the paper: after the simulation, snap boundary vertices that are off the curves
+  /// onto them, then flip edges and smooth vertices (free ones in the plane, curve ones along
+  /// their curve) where an angle is below 30 degrees, toward larger minimum angles, never
+  /// changing a face's region and never lowering the smallest angle around the vertex or edge
+  /// touched.
   bool optimize = true;
   /// Rounds of (flip pass, smoothing pass) of the optimization. Range [0, 100].
   int optimizationPasses = 6;
@@ -91,7 +93,7 @@ public:
     std::vector<int> nodes;            ///< Model node id of each point
     std::vector<std::uint8_t> feature; ///< per point: 1 = a vertex sliding over it stops there
     bool closed = false;
-    int left = -1, right = -1;         ///< region ids on both sides (-1 exterior)
+    int left = -1, right = -1; ///< region ids on both sides (-1 exterior)
     std::size_t numberOfSegments() const
     {
       return this->closed ? this->points.size() : this->points.size() - 1;
@@ -177,16 +179,34 @@ struct CompressionResult
 /// the same model and field) onto the model's boundaries and classifies its faces. Throws
 /// ParameterError for parameters out of range or a classification of another mesh, Aborted
 /// when the progress callback asks to stop (checked at least every simulation step).
-CompressionResult compress(const TriangleMesh& grid, const Classification& classification,
-  const Model& model, const DistanceField& field, const CompressionParams& params = {},
+CompressionResult compress(const TriangleMesh& grid,
+  const Classification& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params = {},
   const ProgressReporter& progress = ProgressReporter());
+
+/// Paper 6.5 on a plain counter-clockwise triangle list: every triangle with an angle below
+/// smallAngle degrees gets its longest edge flipped when both new triangles are
+/// counter-clockwise and the smaller of the two triangles' smallest angles grows; repeated
+/// until nothing changes or `passes` passes. Returns the number of flips. The simulation
+/// applies the same rule to its sub-mesh (also to triangles below 10% of their rest area).
+std::size_t flipDegenerateTriangles(const std::vector<Vec2>& points,
+  std::vector<std::array<int, 3>>& triangles,
+  double smallAngle = 10.0,
+  int passes = 8);
 
 /// Whether moving vertex `i` of a counter-clockwise triangle list to `to` keeps every
 /// triangle of `star` (ids of triangles containing i) counter-clockwise with twice-area at
 /// least min(minTwiceArea[t], its current twice-area) and > 0: the paper's restrain test
 /// (6.3), with two cross products per (vertex, opposite edge) pair.
-bool restrainAccepts(const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles,
-  const int* star, int starSize, int i, Vec2 to, const double* minTwiceArea = nullptr);
+bool restrainAccepts(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles,
+  const int* star,
+  int starSize,
+  int i,
+  Vec2 to,
+  const double* minTwiceArea = nullptr);
 
 } // namespace strata
 

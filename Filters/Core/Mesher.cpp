@@ -42,7 +42,8 @@ double ringArea(const Ring& ring)
 } // namespace
 
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& region)
+  const std::vector<std::array<int, 3>>& triangles,
+  const std::vector<int>& region)
 {
   const std::size_t np = points.size();
   // Directed edges of the kept triangles, by start vertex.
@@ -75,7 +76,8 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<
       }
     }
   }
-  auto leftOf = [&](int a, int b) {
+  auto leftOf = [&](int a, int b)
+  {
     for (int s = start[a]; s < start[a + 1]; ++s)
     {
       if (out[s].first == b)
@@ -114,7 +116,8 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<
     firstOut[edges[e].a] = static_cast<int>(e);
     firstIn[edges[e].b] = static_cast<int>(e);
   }
-  auto passes = [&](int v) {
+  auto passes = [&](int v)
+  {
     if (outCount[v] != 1 || inCount[v] != 1)
     {
       return false;
@@ -125,7 +128,8 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<
   };
   std::vector<std::uint8_t> used(edges.size(), 0);
   std::vector<MesherResult::BoundaryCurve> curves;
-  auto follow = [&](int e) {
+  auto follow = [&](int e)
+  {
     MesherResult::BoundaryCurve c;
     c.left = edges[e].left;
     c.right = edges[e].right;
@@ -165,21 +169,30 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<
   return curves;
 }
 
-MesherResult triangulate(
-  const RawPolylines& input, const MesherParams& params, const ProgressCallback& callback)
+MesherResult triangulate(const RawPolylines& input,
+  const MesherParams& params,
+  const ProgressCallback& callback)
 {
   const ProgressReporter progress(callback);
   MesherResult result;
   const Clock::time_point begin = Clock::now();
   Clock::time_point t0 = begin;
-  auto stage = [&](const char* name) {
+  auto stage = [&](const char* name)
+  {
     const Clock::time_point now = Clock::now();
     result.summary.secondsPerStage.push_back(
       { name, std::chrono::duration<double>(now - t0).count() });
     t0 = now;
   };
-  // Validate every parameter before any work.
+  // Validate every parameter before any work (the grid's once the model is known).
   validate(params.compression);
+  if (!(params.classification.boundaryTolerance >= 0.0) ||
+    !std::isfinite(params.classification.boundaryTolerance))
+  {
+    throw ParameterError("triangulate: BoundaryTolerance " +
+      std::to_string(params.classification.boundaryTolerance) +
+      " is not a finite value >= 0 (0: automatic)");
+  }
   progress.report(0.0, "building the model");
   const Model model = buildModel(input, params.model);
   result.origin = model.origin;
@@ -204,8 +217,8 @@ MesherResult triangulate(
     classify(mesh, model, field, params.classification, progress.sub(0.15, 0.25));
   stage("classification");
 
-  const CompressionResult compressed = compress(
-    mesh, classification, model, field, params.compression, progress.sub(0.25, 0.95));
+  const CompressionResult compressed =
+    compress(mesh, classification, model, field, params.compression, progress.sub(0.25, 0.95));
   for (const auto& s : compressed.secondsPerStage)
   {
     result.summary.secondsPerStage.push_back(s);
@@ -217,10 +230,19 @@ MesherResult triangulate(
 
   // Keep the region triangles, compact their points.
   progress.report(0.95, "writing the mesh");
+  std::size_t ticks = 0;
+  const auto poll = [&]()
+  {
+    if ((++ticks & 4095) == 0)
+    {
+      progress.report(0.95, "writing the mesh");
+    }
+  };
   const std::size_t nt = compressed.triangles.size();
   std::vector<int> newId(compressed.points.size(), -1);
   for (std::size_t t = 0; t < nt; ++t)
   {
+    poll();
     if (compressed.triangleRegion[t] < 0)
     {
       continue;
@@ -256,18 +278,16 @@ MesherResult triangulate(
   const QualitySummary qs = summarizeQuality(q);
   if (qs.inverted + qs.degenerate > 0)
   {
-    result.warnings.push_back(std::to_string(qs.inverted + qs.degenerate) +
-      " output triangles have zero or negative area");
+    result.warnings.push_back(
+      std::to_string(qs.inverted + qs.degenerate) + " output triangles have zero or negative area");
   }
 
   // Approximated boundary, vertex classes.
   result.boundary = approximatedBoundary(result.points, result.triangles, result.regionId);
   result.vertexClass.assign(result.points.size(), VertexInterior);
   {
-    // Boundary vertices: those of the boundary curves (positions are exact copies).
-    std::vector<std::array<int, 2>> ids;
-    // Recompute by edges to avoid matching positions.
-    std::vector<std::array<int, 3>> none;
+    // Boundary vertices: ends of an edge whose two sides have different regions (or one side
+    // no triangle).
     std::vector<int> start(result.points.size() + 1, 0);
     for (const auto& tri : result.triangles)
     {
@@ -292,6 +312,7 @@ MesherResult triangulate(
     }
     for (std::size_t a = 0; a < result.points.size(); ++a)
     {
+      poll();
       for (int s = start[a]; s < start[a + 1]; ++s)
       {
         const int b = out[s].first;
@@ -322,6 +343,7 @@ MesherResult triangulate(
     {
       for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
       {
+        poll();
         a.push_back(c.points[i]);
         b.push_back(c.points[i + 1]);
         double d = 0.0;
@@ -350,6 +372,7 @@ MesherResult triangulate(
         const std::size_t n = c.points.size();
         for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
         {
+          poll();
           const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
           for (double f : { 0.0, 0.2, 0.4, 0.6, 0.8 })
           {

@@ -67,9 +67,9 @@ struct MesherResult
   struct Summary
   {
     std::size_t triangles = 0, vertices = 0;
-    double minAngle = 0.0, maxAngle = 0.0;     ///< degrees
-    double percentAngles30to60 = 0.0;          ///< percent of all angles in [30, 60]
-    double percentTriangles30to60 = 0.0;       ///< percent of triangles, smallest angle in [30, 60]
+    double minAngle = 0.0, maxAngle = 0.0; ///< degrees
+    double percentAngles30to60 = 0.0;      ///< percent of all angles in [30, 60]
+    double percentTriangles30to60 = 0.0;   ///< percent of triangles, smallest angle in [30, 60]
     /// Largest distance (model units) between the approximated boundary and the input curves,
     /// both ways (Hausdorff, sampled at five points per edge / segment).
     double maxBoundaryDeviation = 0.0;
@@ -91,13 +91,15 @@ struct MesherResult
 /// InputError for a malformed model, ParameterError for parameters out of range, Aborted when
 /// the progress callback returns false (progress is reported per stage and at least every
 /// simulation step, so an abort is honoured within a few milliseconds on large meshes).
-MesherResult triangulate(const RawPolylines& input, const MesherParams& params = {},
+MesherResult triangulate(const RawPolylines& input,
+  const MesherParams& params = {},
   const ProgressCallback& progress = {});
 
 /// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
 /// triangles with region -1 count as absent.
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles, const std::vector<int>& region);
+  const std::vector<std::array<int, 3>>& triangles,
+  const std::vector<int>& region);
 
 } // namespace strata
 

@@ -31,8 +31,9 @@ inline double angleBetween(Vec2 u, Vec2 v)
 
 std::array<double, 3> triangleAngles(Vec2 a, Vec2 b, Vec2 c)
 {
-  std::array<double, 3> angles = { angleBetween(b - a, c - a), angleBetween(c - b, a - b),
-    angleBetween(a - c, b - c) };
+  std::array<double, 3> angles = {
+    angleBetween(b - a, c - a), angleBetween(c - b, a - b), angleBetween(a - c, b - c)
+  };
   // A zero-length edge: the corner opposite it sees two equal edges (angle 0, as atan2
   // reports); the angles at its two merged ends are undefined and split the remaining 180.
   const bool ab = a == b, bc = b == c, ca = c == a;
@@ -96,8 +97,8 @@ TriangleQuality triangleQuality(Vec2 a, Vec2 b, Vec2 c)
   return q;
 }
 
-std::vector<TriangleQuality> triangleQualities(
-  const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles)
+std::vector<TriangleQuality> triangleQualities(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles)
 {
   std::vector<TriangleQuality> out(triangles.size());
   const int n = static_cast<int>(points.size());
@@ -109,8 +110,7 @@ std::vector<TriangleQuality> triangleQualities(
       if (tri[k] < 0 || tri[k] >= n)
       {
         throw ParameterError("triangleQualities: triangle " + std::to_string(t) +
-          " refers to point " + std::to_string(tri[k]) + ", not in [0, " + std::to_string(n) +
-          ")");
+          " refers to point " + std::to_string(tri[k]) + ", not in [0, " + std::to_string(n) + ")");
       }
     }
     out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
@@ -157,8 +157,8 @@ QualitySummary summarizeQuality(const std::vector<TriangleQuality>& qualities)
   return s;
 }
 
-QualitySummary summarizeQuality(
-  const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles)
+QualitySummary summarizeQuality(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles)
 {
   return summarizeQuality(triangleQualities(points, triangles));
 }

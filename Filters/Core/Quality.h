@@ -52,15 +52,15 @@ struct QualitySummary
 
 /// Quality of every triangle of a mesh (indices into points; throws ParameterError for an
 /// index out of range).
-std::vector<TriangleQuality> triangleQualities(
-  const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles);
+std::vector<TriangleQuality> triangleQualities(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles);
 
 /// Summary over the given per-triangle qualities (an empty list gives zeros).
 QualitySummary summarizeQuality(const std::vector<TriangleQuality>& qualities);
 
 /// Summary of a mesh's quality (triangleQualities, then summarizeQuality).
-QualitySummary summarizeQuality(
-  const std::vector<Vec2>& points, const std::vector<std::array<int, 3>>& triangles);
+QualitySummary summarizeQuality(const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles);
 
 } // namespace strata
 

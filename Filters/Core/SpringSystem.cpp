@@ -29,8 +29,8 @@ void checkRange(bool ok, const char* name, double value, const char* range)
 {
   if (!ok)
   {
-    throw ParameterError(std::string("SpringSystem: ") + name + " " + std::to_string(value) +
-      " is not in " + range);
+    throw ParameterError(
+      std::string("SpringSystem: ") + name + " " + std::to_string(value) + " is not in " + range);
   }
 }
 } // namespace
@@ -39,7 +39,8 @@ void validate(const SpringParams& p)
 {
   checkRange(p.configuration == SpringConfiguration::EdgeOnly ||
       p.configuration == SpringConfiguration::EdgeAndProjection,
-    "SpringConfiguration", static_cast<double>(static_cast<int>(p.configuration)),
+    "SpringConfiguration",
+    static_cast<double>(static_cast<int>(p.configuration)),
     "{0 (edge only), 1 (edge and projection)}");
   checkRange(p.stiffness > 0.0 && p.stiffness <= 1e3, "SpringStiffness", p.stiffness, "(0, 1e3]");
   checkRange(p.damping >= 0.0 && p.damping <= 1e3, "Damping", p.damping, "[0, 1e3]");
@@ -104,8 +105,9 @@ double projectionSpringEnergy(double length, double restLength, double ks)
     return HUGE_VAL;
   }
   // integral of ks x0 (s / x0 - x0 / s) ds from x0 to length
-  return ks * (0.5 * (length * length - restLength * restLength) -
-                restLength * restLength * std::log(length / restLength));
+  return ks *
+    (0.5 * (length * length - restLength * restLength) -
+      restLength * restLength * std::log(length / restLength));
 }
 
 double projectionParameter(Vec2 p, Vec2 a, Vec2 b)
@@ -165,38 +167,42 @@ void EdgeSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& re
   }
 }
 
-void EdgeSprings::flipped(
-  const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int /*t0*/, int /*t1*/)
+void EdgeSprings::flipped(const SpringMesh& mesh,
+  const std::vector<Vec2>& x,
+  int edge,
+  int /*t0*/,
+  int /*t1*/)
 {
   this->Rest[edge] = norm(x[mesh.edges[edge][0]] - x[mesh.edges[edge][1]]);
 }
 
-void EdgeSprings::addForces(
-  const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const
+void EdgeSprings::addForces(const SpringMesh& mesh,
+  const ParticleState& s,
+  const SpringParams& params) const
 {
   const double ks = params.stiffness, kd = params.damping;
-  const std::size_t n = mesh.edges.size();
+  const std::size_t n = s.edges ? s.edges->size() : mesh.edges.size();
+  const int* subset = s.edges ? s.edges->data() : nullptr;
   const std::array<int, 2>* edges = mesh.edges.data();
   const double* rest = this->Rest.data();
-  for (std::size_t e = 0; e < n; ++e)
+  for (std::size_t i = 0; i < n; ++i)
   {
+    const std::size_t e = subset ? static_cast<std::size_t>(subset[i]) : i;
     const int a = edges[e][0], b = edges[e][1];
     const Vec2 f = edgeKernel(s.x[a] - s.x[b], s.v[a] - s.v[b], rest[e], ks, kd);
     s.f[a] = s.f[a] + f;
     s.f[b] = s.f[b] - f;
-  }
-  if (s.k)
-  {
-    for (std::size_t e = 0; e < n; ++e)
+    if (s.k)
     {
-      s.k[edges[e][0]] += ks;
-      s.k[edges[e][1]] += ks;
+      s.k[a] += ks;
+      s.k[b] += ks;
     }
   }
 }
 
-double EdgeSprings::energy(
-  const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const
+double EdgeSprings::energy(const SpringMesh& mesh,
+  const std::vector<Vec2>& x,
+  const SpringParams& params) const
 {
   double sum = 0.0;
   for (std::size_t e = 0; e < mesh.edges.size(); ++e)
@@ -229,50 +235,61 @@ void ProjectionSprings::initialize(const SpringMesh& mesh, const std::vector<Vec
   }
 }
 
-void ProjectionSprings::flipped(
-  const SpringMesh& mesh, const std::vector<Vec2>& x, int /*edge*/, int t0, int t1)
+void ProjectionSprings::flipped(const SpringMesh& mesh,
+  const std::vector<Vec2>& x,
+  int /*edge*/,
+  int t0,
+  int t1)
 {
   this->restOf(mesh, x, t0);
   this->restOf(mesh, x, t1);
 }
 
-void ProjectionSprings::addForces(
-  const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const
+void ProjectionSprings::addForces(const SpringMesh& mesh,
+  const ParticleState& s,
+  const SpringParams& params) const
 {
   const double ks = params.stiffness;
-  const std::size_t n = mesh.triangles.size();
+  const std::size_t n = s.triangles ? s.triangles->size() : mesh.triangles.size();
+  const int* subset = s.triangles ? s.triangles->data() : nullptr;
   const std::array<int, 3>* tris = mesh.triangles.data();
   const double* rest = this->Rest.data();
-  for (std::size_t t = 0; t < n; ++t)
+  for (std::size_t j = 0; j < n; ++j)
   {
+    const std::size_t t = subset ? static_cast<std::size_t>(subset[j]) : j;
+    const int v[3] = { tris[t][0], tris[t][1], tris[t][2] };
+    const Vec2 p[3] = { s.x[v[0]], s.x[v[1]], s.x[v[2]] };
+    // Edge k + 1 -> k + 2 is opposite corner k.
+    const Vec2 e[3] = { p[2] - p[1], p[0] - p[2], p[1] - p[0] };
     for (int k = 0; k < 3; ++k)
     {
       const double x0 = rest[3 * t + k];
-      if (!(x0 > 0.0))
+      const double len2 = norm2(e[k]);
+      if (!(x0 > 0.0) || !(len2 > 0.0))
       {
         continue;
       }
-      const int i = tris[t][k], a = tris[t][(k + 1) % 3], b = tris[t][(k + 2) % 3];
-      const Vec2 p = s.x[i], pa = s.x[a], ab = s.x[b] - pa;
-      const double len2 = norm2(ab);
-      const double u = len2 > 0.0 ? std::clamp(dot(p - pa, ab) / len2, 0.0, 1.0) : 0.0;
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      const Vec2 rel = p[k] - p[a];
+      const double u = std::clamp(dot(rel, e[k]) / len2, 0.0, 1.0);
       double stiffness = 0.0;
-      const Vec2 f = projectionKernel(p - (pa + u * ab), x0 * x0, ks, stiffness);
-      s.f[i] = s.f[i] + f;
-      s.f[a] = s.f[a] - (1.0 - u) * f;
-      s.f[b] = s.f[b] - u * f;
+      const Vec2 f = projectionKernel(rel - u * e[k], x0 * x0, ks, stiffness);
+      s.f[v[k]] = s.f[v[k]] + f;
+      s.f[v[a]] = s.f[v[a]] - (1.0 - u) * f;
+      s.f[v[b]] = s.f[v[b]] - u * f;
       if (s.k)
       {
-        s.k[i] += stiffness;
-        s.k[a] += (1.0 - u) * stiffness;
-        s.k[b] += u * stiffness;
+        s.k[v[k]] += stiffness;
+        s.k[v[a]] += (1.0 - u) * stiffness;
+        s.k[v[b]] += u * stiffness;
       }
     }
   }
 }
 
-double ProjectionSprings::energy(
-  const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const
+double ProjectionSprings::energy(const SpringMesh& mesh,
+  const std::vector<Vec2>& x,
+  const SpringParams& params) const
 {
   double sum = 0.0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -282,8 +299,8 @@ double ProjectionSprings::energy(
     {
       const Vec2 p = x[tri[k]], a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
       const double u = projectionParameter(p, a, b);
-      sum += projectionSpringEnergy(norm(p - (a + u * (b - a))), this->Rest[3 * t + k],
-        params.stiffness);
+      sum += projectionSpringEnergy(
+        norm(p - (a + u * (b - a))), this->Rest[3 * t + k], params.stiffness);
     }
   }
   return sum;
@@ -301,8 +318,10 @@ std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration confi
 }
 
 //------------------------------------------------------------------------------
-SpringSystem::SpringSystem(SpringMesh mesh, std::vector<Vec2> positions,
-  const std::vector<Vec2>& rest, const SpringParams& params)
+SpringSystem::SpringSystem(SpringMesh mesh,
+  std::vector<Vec2> positions,
+  const std::vector<Vec2>& rest,
+  const SpringParams& params)
   : Params(params)
   , Mesh(std::move(mesh))
   , X(std::move(positions))
@@ -369,11 +388,46 @@ void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
   this->Sets.push_back(std::move(set));
 }
 
+void SpringSystem::setAwake(const std::vector<std::uint8_t>& awake)
+{
+  this->Awake = awake;
+  this->LiveEdges.clear();
+  this->LiveTriangles.clear();
+  if (awake.empty())
+  {
+    return;
+  }
+  this->LiveEdge.assign(this->Mesh.edges.size(), 0);
+  this->LiveTriangle.assign(this->Mesh.triangles.size(), 0);
+  for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)
+  {
+    if (awake[this->Mesh.edges[e][0]] || awake[this->Mesh.edges[e][1]])
+    {
+      this->LiveEdge[e] = 1;
+      this->LiveEdges.push_back(static_cast<int>(e));
+    }
+  }
+  for (std::size_t t = 0; t < this->Mesh.triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = this->Mesh.triangles[t];
+    if (awake[tri[0]] || awake[tri[1]] || awake[tri[2]])
+    {
+      this->LiveTriangle[t] = 1;
+      this->LiveTriangles.push_back(static_cast<int>(t));
+    }
+  }
+}
+
 void SpringSystem::computeForces()
 {
   std::fill(this->F.begin(), this->F.end(), Vec2{});
   std::fill(this->K.begin(), this->K.end(), 0.0);
-  const ParticleState s{ this->X.data(), this->V.data(), this->F.data(), this->K.data() };
+  ParticleState s{ this->X.data(), this->V.data(), this->F.data(), this->K.data() };
+  if (!this->Awake.empty())
+  {
+    s.edges = &this->LiveEdges;
+    s.triangles = &this->LiveTriangles;
+  }
   for (const std::unique_ptr<SpringSet>& set : this->Sets)
   {
     set->addForces(this->Mesh, s, this->Params);
@@ -389,7 +443,8 @@ double SpringSystem::integrate(double dt, MoveGuard* guard)
   double largest = 0.0;
   for (std::size_t i = 0; i < n; ++i)
   {
-    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Free))
+    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Free) ||
+      (!this->Awake.empty() && !this->Awake[i]))
     {
       continue;
     }
@@ -445,8 +500,12 @@ double SpringSystem::potentialEnergy() const
   return sum;
 }
 
-void SpringSystem::flip(int edge, std::array<int, 2> newEdge, int t0, std::array<int, 3> n0,
-  int t1, std::array<int, 3> n1)
+void SpringSystem::flip(int edge,
+  std::array<int, 2> newEdge,
+  int t0,
+  std::array<int, 3> n0,
+  int t1,
+  std::array<int, 3> n1)
 {
   this->Mesh.edges[edge] = { std::min(newEdge[0], newEdge[1]), std::max(newEdge[0], newEdge[1]) };
   this->Mesh.triangles[t0] = n0;
@@ -454,6 +513,26 @@ void SpringSystem::flip(int edge, std::array<int, 2> newEdge, int t0, std::array
   for (std::unique_ptr<SpringSet>& set : this->Sets)
   {
     set->flipped(this->Mesh, this->X, edge, t0, t1);
+  }
+  if (!this->Awake.empty())
+  {
+    // The flipped springs now touch other particles: make them live if one is awake.
+    const std::array<int, 2>& e = this->Mesh.edges[edge];
+    if (!this->LiveEdge[edge] && (this->Awake[e[0]] || this->Awake[e[1]]))
+    {
+      this->LiveEdge[edge] = 1;
+      this->LiveEdges.push_back(edge);
+    }
+    for (int t : { t0, t1 })
+    {
+      const std::array<int, 3>& tri = this->Mesh.triangles[t];
+      if (!this->LiveTriangle[t] &&
+        (this->Awake[tri[0]] || this->Awake[tri[1]] || this->Awake[tri[2]]))
+      {
+        this->LiveTriangle[t] = 1;
+        this->LiveTriangles.push_back(t);
+      }
+    }
   }
 }
 

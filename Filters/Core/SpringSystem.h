@@ -85,6 +85,10 @@ struct ParticleState
   /// Stiffness accumulator (may be null): each spring adds its current stiffness along its
   /// direction (dF/dlength) to the particles it acts on, for the stable mass of step().
   double* k = nullptr;
+  /// When not null, only these edges (for edge-indexed sets) and triangles (for
+  /// triangle-indexed sets) act: the springs touching an awake particle.
+  const std::vector<int>* edges = nullptr;
+  const std::vector<int>* triangles = nullptr;
 };
 
 /// A set of springs defined on a SpringMesh. Subclass to add a configuration.
@@ -97,14 +101,19 @@ public:
   virtual void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) = 0;
   /// After SpringSystem::flip: new rest lengths (the current ones) of the springs of edge
   /// `edge` and of triangles t0 and t1.
-  virtual void flipped(
-    const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0, int t1) = 0;
+  virtual void flipped(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
+    int edge,
+    int t0,
+    int t1) = 0;
   /// Adds every spring's force to s.f.
-  virtual void addForces(
-    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const = 0;
+  virtual void addForces(const SpringMesh& mesh,
+    const ParticleState& s,
+    const SpringParams& params) const = 0;
   /// Potential energy of all springs.
-  virtual double energy(
-    const SpringMesh& mesh, const std::vector<Vec2>& x, const SpringParams& params) const = 0;
+  virtual double energy(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
+    const SpringParams& params) const = 0;
 };
 
 /// One Hooke spring per edge (paper 6.1).
@@ -113,11 +122,16 @@ class EdgeSprings : public SpringSet
 public:
   const char* name() const override { return "edge"; }
   void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
-  void flipped(const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0,
+  void flipped(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
+    int edge,
+    int t0,
     int t1) override;
-  void addForces(
-    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const override;
-  double energy(const SpringMesh& mesh, const std::vector<Vec2>& x,
+  void addForces(const SpringMesh& mesh,
+    const ParticleState& s,
+    const SpringParams& params) const override;
+  double energy(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
     const SpringParams& params) const override;
 
 private:
@@ -134,11 +148,16 @@ class ProjectionSprings : public SpringSet
 public:
   const char* name() const override { return "projection"; }
   void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
-  void flipped(const SpringMesh& mesh, const std::vector<Vec2>& x, int edge, int t0,
+  void flipped(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
+    int edge,
+    int t0,
     int t1) override;
-  void addForces(
-    const SpringMesh& mesh, const ParticleState& s, const SpringParams& params) const override;
-  double energy(const SpringMesh& mesh, const std::vector<Vec2>& x,
+  void addForces(const SpringMesh& mesh,
+    const ParticleState& s,
+    const SpringParams& params) const override;
+  double energy(const SpringMesh& mesh,
+    const std::vector<Vec2>& x,
     const SpringParams& params) const override;
 
 private:
@@ -184,7 +203,9 @@ class SpringSystem
 public:
   /// Rest lengths from `rest` (same size as positions). Throws ParameterError for
   /// parameters out of range, sizes that differ or indices out of range.
-  SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const std::vector<Vec2>& rest,
+  SpringSystem(SpringMesh mesh,
+    std::vector<Vec2> positions,
+    const std::vector<Vec2>& rest,
     const SpringParams& params = {});
   /// Rest lengths from the initial positions.
   SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const SpringParams& params = {});
@@ -214,6 +235,12 @@ public:
     return std::max(this->Params.mass, 2.0 * dt * dt * this->K[i]);
   }
 
+  /// Sleeping: only awake particles are integrated, and only springs touching an awake
+  /// particle are evaluated (the forces on awake particles are then complete; those on
+  /// sleeping ones are not computed). An empty mask wakes every particle.
+  void setAwake(const std::vector<std::uint8_t>& awake);
+  bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
+
   /// Phase 1: resets the force accumulators and adds the contribution of every spring.
   void computeForces();
   /// Phases 2 and 3 for the free particles: acceleration F / m_i, then v += dt a and
@@ -230,7 +257,11 @@ public:
   /// Replaces the edge `edge` shared by triangles t0 and t1 by newEdge and the triangles by
   /// n0 and n1 (an edge flip done by the caller, who checked it); the springs of the edge and
   /// of both triangles take their current lengths as rest lengths.
-  void flip(int edge, std::array<int, 2> newEdge, int t0, std::array<int, 3> n0, int t1,
+  void flip(int edge,
+    std::array<int, 2> newEdge,
+    int t0,
+    std::array<int, 3> n0,
+    int t1,
     std::array<int, 3> n1);
 
 private:
@@ -238,6 +269,9 @@ private:
   SpringMesh Mesh;
   std::vector<Vec2> X, V, F, Rest;
   std::vector<double> K;
+  std::vector<std::uint8_t> Awake;
+  std::vector<int> LiveEdges, LiveTriangles;
+  std::vector<std::uint8_t> LiveEdge, LiveTriangle;
   std::vector<std::uint8_t> Kind;
   std::vector<double> Local;
   std::vector<std::unique_ptr<SpringSet>> Sets;

@@ -37,8 +37,8 @@ void writeVtu(const std::string& path, const strata::MesherResult& r)
   char buf[128];
   f << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
        "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n";
-  f << "<Piece NumberOfPoints=\"" << r.points.size() << "\" NumberOfCells=\""
-    << r.triangles.size() << "\">\n";
+  f << "<Piece NumberOfPoints=\"" << r.points.size() << "\" NumberOfCells=\"" << r.triangles.size()
+    << "\">\n";
   f << "<PointData>\n<DataArray type=\"Int8\" Name=\"VertexClass\" format=\"ascii\">\n";
   for (auto c : r.vertexClass)
   {
@@ -52,7 +52,8 @@ void writeVtu(const std::string& path, const strata::MesherResult& r)
     f << buf;
   }
   f << "</DataArray>\n</PointData>\n<CellData>\n";
-  auto intArray = [&](const char* name, const std::vector<int>& v) {
+  auto intArray = [&](const char* name, const std::vector<int>& v)
+  {
     f << "<DataArray type=\"Int32\" Name=\"" << name << "\" format=\"ascii\">\n";
     for (int x : v)
     {
@@ -60,7 +61,8 @@ void writeVtu(const std::string& path, const strata::MesherResult& r)
     }
     f << "</DataArray>\n";
   };
-  auto dblArray = [&](const char* name, const std::vector<double>& v) {
+  auto dblArray = [&](const char* name, const std::vector<double>& v)
+  {
     f << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
     for (double x : v)
     {
@@ -161,7 +163,8 @@ int main(int argc, char** argv)
   for (int i = 3; i < argc; ++i)
   {
     const std::string a = argv[i];
-    auto next = [&]() -> const char* {
+    auto next = [&]() -> const char*
+    {
       if (i + 1 >= argc)
       {
         usage();
@@ -224,13 +227,23 @@ int main(int argc, char** argv)
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n",
-      s.triangles, s.vertices, s.minAngle, s.maxAngle, s.percentAngles30to60,
-      s.percentTriangles30to60, s.maxBoundaryDeviation, s.maxBoundaryVertexDistance,
-      100.0 * s.maxRegionAreaError, s.iterations, s.totalSeconds);
+      s.triangles,
+      s.vertices,
+      s.minAngle,
+      s.maxAngle,
+      s.percentAngles30to60,
+      s.percentTriangles30to60,
+      s.maxBoundaryDeviation,
+      s.maxBoundaryVertexDistance,
+      100.0 * s.maxRegionAreaError,
+      s.iterations,
+      s.totalSeconds);
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {
-      std::printf("%s\"%s\": %.4f", i ? ", " : "", s.secondsPerStage[i].first.c_str(),
+      std::printf("%s\"%s\": %.4f",
+        i ? ", " : "",
+        s.secondsPerStage[i].first.c_str(),
         s.secondsPerStage[i].second);
     }
     std::printf("},\n \"warnings\": [");

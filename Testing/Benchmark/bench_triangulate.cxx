@@ -1,0 +1,63 @@
+// Benchmark of the whole triangulation (strata::triangulate) on Data/gulf_section.vtp at
+// three grid levels giving about 1e4, 1e5 and 1e6 triangles. Counters: triangles, vertices,
+// smallest angle, simulation steps, the seconds of each stage of the last run (s_<stage>)
+// and the longest gap between two progress calls (the abort latency).
+#include "Mesher.h"
+#include "VtpAscii.h"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+
+namespace
+{
+const strata::RawPolylines& gulf()
+{
+  static const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("gulf_section.vtp"));
+  return raw;
+}
+
+void BM_TriangulateGulfSection(benchmark::State& state)
+{
+  strata::MesherParams params;
+  params.grid.maxLevel = static_cast<int>(state.range(0));
+  strata::MesherResult result;
+  double longestGap = 0.0;
+  for (auto _ : state)
+  {
+    auto previous = std::chrono::steady_clock::now();
+    result = strata::triangulate(gulf(),
+      params,
+      [&](double, const char*)
+      {
+        const auto now = std::chrono::steady_clock::now();
+        longestGap = std::max(longestGap, std::chrono::duration<double>(now - previous).count());
+        previous = now;
+        return true;
+      });
+    benchmark::DoNotOptimize(result.triangles.data());
+  }
+  state.counters["triangles"] = static_cast<double>(result.summary.triangles);
+  state.counters["vertices"] = static_cast<double>(result.summary.vertices);
+  state.counters["min_angle"] = result.summary.minAngle;
+  state.counters["iterations"] = result.summary.iterations;
+  state.counters["s_total"] = result.summary.totalSeconds;
+  state.counters["max_progress_gap_s"] = longestGap;
+  for (const auto& stage : result.summary.secondsPerStage)
+  {
+    std::string name = "s_" + stage.first;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    state.counters[name] = stage.second;
+  }
+}
+} // namespace
+
+// maxLevel 10: ~1e4 triangles, 18: ~1e5, 24: ~1e6.
+BENCHMARK(BM_TriangulateGulfSection)->Arg(10)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TriangulateGulfSection)->Arg(18)->Iterations(3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TriangulateGulfSection)->Arg(24)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();

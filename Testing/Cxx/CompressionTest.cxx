@@ -1,0 +1,389 @@
+// Tests of the compression (paper Section 6): rails, restrain, junctions, flips, push
+// criteria, and the invariants of a compressed grid.
+#include "Compression.h"
+#include "Errors.h"
+#include "Quality.h"
+#include "VtpAscii.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace
+{
+using strata::Vec2;
+
+// A closed loop of region 0 (Loops form).
+strata::RawPolylines loop(const std::vector<Vec2>& points)
+{
+  strata::RawPolylines raw;
+  raw.points = points;
+  raw.offsets = { 0, static_cast<std::int64_t>(points.size()) + 1 };
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    raw.connectivity.push_back(static_cast<std::int64_t>(i));
+  }
+  raw.connectivity.push_back(0);
+  raw.regionId = { 0 };
+  raw.form = strata::ModelForm::Loops;
+  return raw;
+}
+
+strata::RawPolylines square(double side)
+{
+  return loop({ { 0, 0 }, { side, 0 }, { side, side }, { 0, side } });
+}
+
+// An irregular polygon (a "blob") with 40 vertices.
+strata::RawPolylines blob()
+{
+  std::vector<Vec2> p;
+  for (int i = 0; i < 40; ++i)
+  {
+    const double a = 2.0 * 3.14159265358979323846 * i / 40.0;
+    const double r = 10.0 + 2.0 * std::sin(3.0 * a) + std::cos(7.0 * a);
+    p.push_back({ r * std::cos(a), r * std::sin(a) });
+  }
+  return loop(p);
+}
+
+// Model -> field -> grid -> classification, ready for compress().
+struct Pipeline
+{
+  std::unique_ptr<strata::Model> model;
+  std::unique_ptr<strata::DistanceField> field;
+  strata::TriangleMesh mesh;
+  strata::Classification cls;
+
+  Pipeline(const strata::RawPolylines& raw, int maxLevel)
+  {
+    this->model = std::make_unique<strata::Model>(strata::buildModel(raw));
+    this->field = std::make_unique<strata::DistanceField>(*this->model);
+    strata::Grid48Params gp;
+    gp.maxLevel = maxLevel;
+    this->mesh = strata::Grid48::build(*this->model, *this->field, gp).extract();
+    this->cls = strata::classify(this->mesh, *this->model, *this->field);
+  }
+
+  strata::CompressionResult run(const strata::CompressionParams& p = {}) const
+  {
+    return strata::compress(this->mesh, this->cls, *this->model, *this->field, p);
+  }
+
+  double boundaryDistance(Vec2 p) const
+  {
+    static thread_local strata::StripTreeScratch scratch;
+    const strata::BoundaryRails rails(*this->model, 0.0);
+    double d = 0.0;
+    rails.closest(p, scratch, &d);
+    return d;
+  }
+};
+
+std::size_t nonPositive(const strata::CompressionResult& r)
+{
+  std::size_t n = 0;
+  for (const auto& t : r.triangles)
+  {
+    n += !(strata::orient2d(r.points[t[0]], r.points[t[1]], r.points[t[2]]) > 0.0);
+  }
+  return n;
+}
+} // namespace
+
+TEST(CompressionTest, RailsOfASquareAreOneClosedChainWithFeatureCorners)
+{
+  const strata::Model m = strata::buildModel(square(10.0));
+  const strata::BoundaryRails rails(m, 140.0);
+  ASSERT_EQ(rails.numberOfChains(), 1u);
+  const strata::BoundaryRails::Chain& c = rails.chain(0);
+  EXPECT_TRUE(c.closed);
+  EXPECT_EQ(c.points.size(), 4u);
+  EXPECT_EQ(c.left == 0 || c.right == 0, true);
+  EXPECT_EQ(c.left == -1 || c.right == -1, true);
+  for (std::uint8_t f : c.feature)
+  {
+    EXPECT_EQ(f, 1); // 90 degree corners are sharper than 140
+  }
+  const strata::BoundaryRails none(m, 0.0);
+  for (std::uint8_t f : none.chain(0).feature)
+  {
+    EXPECT_EQ(f, 0);
+  }
+}
+
+TEST(CompressionTest, RailsOfSharedCurvesEndAtJunctions)
+{
+  const strata::Model m =
+    strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")));
+  const strata::BoundaryRails rails(m, 140.0);
+  std::vector<int> isJunction(m.nodes.size(), 0);
+  for (int j : m.junctions)
+  {
+    isJunction[j] = 1;
+  }
+  for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+  {
+    const strata::BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+    EXPECT_NE(c.left, c.right);
+    for (std::size_t i = 0; i < c.nodes.size(); ++i)
+    {
+      const bool end = !c.closed && (i == 0 || i + 1 == c.nodes.size());
+      EXPECT_EQ(isJunction[c.nodes[i]] == 1, end) << "chain " << ci << " point " << i;
+    }
+  }
+}
+
+TEST(CompressionTest, ClosestRailPointIsExact)
+{
+  const strata::Model m = strata::buildModel(blob());
+  const strata::BoundaryRails rails(m, 140.0);
+  strata::StripTreeScratch scratch;
+  const strata::Ring& ring = m.regions[0].rings[0];
+  for (int k = 0; k < 200; ++k)
+  {
+    const Vec2 p{ -15.0 + 0.15 * k, 7.0 * std::sin(0.37 * k) };
+    double d = 0.0;
+    const strata::BoundaryRails::Location l = rails.closest(p, scratch, &d);
+    double brute = HUGE_VAL;
+    for (std::size_t i = 0; i < ring.points.size(); ++i)
+    {
+      brute = std::min(brute,
+        std::sqrt(strata::pointSegmentDistance2(
+          p, ring.points[i], ring.points[(i + 1) % ring.points.size()])));
+    }
+    EXPECT_NEAR(d, brute, 1e-12);
+    EXPECT_NEAR(strata::norm(rails.position(l) - p), brute, 1e-9);
+  }
+}
+
+TEST(CompressionTest, SlidingFollowsThePolylineAndStopsAtFeatures)
+{
+  const strata::Model m = strata::buildModel(square(10.0));
+  const strata::BoundaryRails rails(m, 140.0);
+  strata::StripTreeScratch scratch;
+  // Local coordinates: the square is [-5, 5]^2.
+  const strata::BoundaryRails::Location start = rails.closest({ 0.0, -6.0 }, scratch);
+  const Vec2 p0 = rails.position(start);
+  EXPECT_NEAR(p0.x, 0.0, 1e-12);
+  EXPECT_NEAR(p0.y, -5.0, 1e-12);
+  // Two units along the side: still on it, two units away.
+  const strata::BoundaryRails::Slide a = rails.slide(start, 2.0);
+  EXPECT_FALSE(a.stopped);
+  EXPECT_NEAR(strata::norm(rails.position(a.location) - p0), 2.0, 1e-12);
+  // Twenty units: stops at the corner (a feature), which it does not pass.
+  const strata::BoundaryRails::Slide b = rails.slide(start, 20.0);
+  EXPECT_TRUE(b.stopped);
+  EXPECT_NEAR(strata::norm(rails.position(b.location) - p0), 5.0, 1e-12);
+  EXPECT_GE(rails.pointAt(b.location), 0);
+  // Without features the slide goes round the corner and stays on the boundary.
+  const strata::BoundaryRails smooth(m, 0.0);
+  const strata::BoundaryRails::Slide c = smooth.slide(smooth.closest({ 0.0, -6.0 }, scratch), 7.0);
+  EXPECT_FALSE(c.stopped);
+  double d = 0.0;
+  smooth.closest(smooth.position(c.location), scratch, &d);
+  EXPECT_NEAR(d, 0.0, 1e-12);
+}
+
+TEST(CompressionTest, RestrainTestRefusesInversionAndCollapse)
+{
+  // Vertex 0 above the edge 1-2.
+  const std::vector<Vec2> p = { { 0.5, 1.0 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
+  const std::vector<std::array<int, 3>> t = { { 0, 2, 1 } }; // counter-clockwise
+  const int star[1] = { 0 };
+  EXPECT_TRUE(strata::restrainAccepts(p, t, star, 1, 0, { 0.7, 0.5 }));
+  EXPECT_FALSE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, -0.1 })); // crosses the edge
+  EXPECT_FALSE(strata::restrainAccepts(p, t, star, 1, 0, { 3.0, 0.0 }));  // flat
+  const double minTwice[1] = { 0.2 };                                     // 20% of twice 0.5
+  EXPECT_FALSE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, 0.1 }, minTwice));
+  EXPECT_TRUE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, 0.3 }, minTwice));
+  // Already below the threshold: moves that do not shrink it further are allowed.
+  const std::vector<Vec2> low = { { 0.5, 0.1 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
+  EXPECT_TRUE(strata::restrainAccepts(low, t, star, 1, 0, { 0.4, 0.12 }, minTwice));
+  EXPECT_FALSE(strata::restrainAccepts(low, t, star, 1, 0, { 0.4, 0.05 }, minTwice));
+}
+
+TEST(CompressionTest, FlipsRemoveDegenerateTriangles)
+{
+  // A square split by its diagonal 0-2, the upper half fanned from a vertex pushed almost
+  // onto that diagonal: triangle 0-2-4 is a sliver; flipping its longest edge (the diagonal)
+  // removes every angle below 10 degrees.
+  const std::vector<Vec2> p = { { 0, 0 }, { 2, 0 }, { 2, 2 }, { 0, 2 }, { 1.0, 1.001 } };
+  std::vector<std::array<int, 3>> t = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 4, 2, 3 } };
+  ASSERT_LT(strata::summarizeQuality(p, t).minAngle, 1.0);
+  const std::size_t flips = strata::flipDegenerateTriangles(p, t);
+  EXPECT_GE(flips, 1u);
+  const strata::QualitySummary s = strata::summarizeQuality(p, t);
+  EXPECT_GT(s.minAngle, 10.0);
+  EXPECT_EQ(s.inverted + s.degenerate, 0u);
+  EXPECT_NEAR(s.totalArea, 4.0, 1e-12); // still covers the square
+}
+
+TEST(CompressionTest, CompressionNeverInvertsATriangle)
+{
+  const Pipeline pipe(blob(), 9);
+  for (strata::PushCriterion c : { strata::PushCriterion::AllCandidates,
+         strata::PushCriterion::OneSide,
+         strata::PushCriterion::Closest })
+  {
+    for (strata::SpringConfiguration s :
+      { strata::SpringConfiguration::EdgeOnly, strata::SpringConfiguration::EdgeAndProjection })
+    {
+      for (bool optimize : { false, true })
+      {
+        strata::CompressionParams p;
+        p.pushCriterion = c;
+        p.springConfiguration = s;
+        p.optimize = optimize;
+        const strata::CompressionResult r = pipe.run(p);
+        EXPECT_EQ(nonPositive(r), 0u);
+        EXPECT_EQ(r.degenerateTriangles, 0u);
+        EXPECT_GT(r.arrivedVertices, 0u);
+      }
+    }
+  }
+}
+
+TEST(CompressionTest, PushCriteriaPickDifferentVertices)
+{
+  const Pipeline pipe(blob(), 9);
+  strata::CompressionParams p;
+  p.maxIterations = 0; // only the initial choice
+  p.pushCriterion = strata::PushCriterion::AllCandidates;
+  const std::size_t all = pipe.run(p).pushedVertices;
+  p.pushCriterion = strata::PushCriterion::OneSide;
+  const std::size_t oneSide = pipe.run(p).pushedVertices;
+  p.pushCriterion = strata::PushCriterion::Closest;
+  const std::size_t closest = pipe.run(p).pushedVertices;
+  EXPECT_GT(all, oneSide);
+  EXPECT_GT(all, closest);
+  EXPECT_GT(oneSide, 0u);
+  EXPECT_GT(closest, 0u);
+}
+
+TEST(CompressionTest, RailVerticesStayOnTheirCurve)
+{
+  for (const char* name : { "lake_superior.vtp", "salt_dome.vtp" })
+  {
+    const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath(name)), 9);
+    const double tolerance = 1e-9 * pipe.model->size();
+    for (bool optimize : { false, true })
+    {
+      strata::CompressionParams p;
+      p.optimize = optimize;
+      const strata::CompressionResult r = pipe.run(p);
+      std::size_t onCurve = 0;
+      for (std::size_t i = 0; i < r.points.size(); ++i)
+      {
+        if (r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned)
+        {
+          ++onCurve;
+          EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << name << " vertex " << i;
+        }
+      }
+      EXPECT_GT(onCurve, 100u);
+    }
+  }
+}
+
+TEST(CompressionTest, JunctionVerticesLieExactlyOnJunctions)
+{
+  for (const char* name : { "salt_dome.vtp", "pinch_out.vtp", "countries_westeurope.vtp" })
+  {
+    const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath(name)), 9);
+    ASSERT_FALSE(pipe.model->junctions.empty());
+    const strata::CompressionResult r = pipe.run();
+    for (int j : pipe.model->junctions)
+    {
+      const Vec2 q = pipe.model->nodes[j];
+      int count = 0;
+      for (std::size_t i = 0; i < r.points.size(); ++i)
+      {
+        if (r.points[i] == q)
+        {
+          ++count;
+          EXPECT_EQ(r.vertexState[i], strata::VertexPinned);
+        }
+      }
+      EXPECT_EQ(count, 1) << name << " junction node " << j;
+    }
+    EXPECT_EQ(r.junctionVertices, pipe.model->junctions.size());
+  }
+}
+
+TEST(CompressionTest, RegionBoundaryVerticesEndOnCurves)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")), 10);
+  const strata::CompressionResult r = pipe.run();
+  EXPECT_EQ(r.offCurveBoundaryVertices, 0u);
+}
+
+TEST(CompressionTest, WithoutIterationsTheMeshIsStillValid)
+{
+  const Pipeline pipe(blob(), 8);
+  strata::CompressionParams p;
+  p.maxIterations = 0;
+  const strata::CompressionResult r = pipe.run(p);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(nonPositive(r), 0u);
+}
+
+TEST(CompressionTest, RejectsParametersOutOfRangeNamingThem)
+{
+  const Pipeline pipe(square(10.0), 6);
+  const auto message = [&](const strata::CompressionParams& p)
+  {
+    try
+    {
+      pipe.run(p);
+    }
+    catch (const strata::ParameterError& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  strata::CompressionParams p;
+  p.timeStep = 0.0;
+  EXPECT_NE(message(p).find("TimeStep"), std::string::npos);
+  p = {};
+  p.pushVelocity = -1.0;
+  EXPECT_NE(message(p).find("PushVelocity"), std::string::npos);
+  p = {};
+  p.featureAngle = 200.0;
+  EXPECT_NE(message(p).find("FeatureAngle"), std::string::npos);
+  p = {};
+  p.maxIterations = -1;
+  EXPECT_NE(message(p).find("MaxIterations"), std::string::npos);
+  p = {};
+  p.springStiffness = 0.0;
+  EXPECT_NE(message(p).find("SpringStiffness"), std::string::npos);
+  p = {};
+  p.damping = -0.1;
+  EXPECT_NE(message(p).find("Damping"), std::string::npos);
+  p = {};
+  p.pushCriterion = static_cast<strata::PushCriterion>(7);
+  EXPECT_NE(message(p).find("PushCriterion"), std::string::npos);
+  p = {};
+  p.springConfiguration = static_cast<strata::SpringConfiguration>(3);
+  EXPECT_NE(message(p).find("SpringConfiguration"), std::string::npos);
+}
+
+TEST(CompressionTest, RejectsAClassificationOfAnotherMesh)
+{
+  const Pipeline a(square(10.0), 6);
+  const Pipeline b(square(10.0), 8);
+  EXPECT_THROW(strata::compress(a.mesh, b.cls, *a.model, *a.field), strata::ParameterError);
+}
+
+TEST(CompressionTest, AbortStopsTheSimulation)
+{
+  const Pipeline pipe(blob(), 9);
+  int calls = 0;
+  const strata::ProgressReporter progress([&](double, const char*) { return ++calls < 5; });
+  EXPECT_THROW(
+    strata::compress(pipe.mesh, pipe.cls, *pipe.model, *pipe.field, {}, progress), strata::Aborted);
+  EXPECT_EQ(calls, 5);
+}

@@ -1,0 +1,320 @@
+// End-to-end tests of the triangulation pipeline on every model in Data/.
+#include "Mesher.h"
+#include "Compression.h"
+#include "Errors.h"
+#include "VtpAscii.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <ostream>
+#include <string>
+
+namespace
+{
+using strata::Vec2;
+
+struct Case
+{
+  const char* file;
+  int maxLevel;           // -1: automatic
+  double minAngle;        // lower bound of the smallest angle (0: not checked)
+  double regionAreaError; // largest relative error of a region's area (1: not checked)
+  int offCurve = 0;       // known residual boundary vertices off the curves (see below)
+};
+
+// Levels keep the suite fast; the paper's three models at about the paper's triangle counts.
+const Case kCases[] = {
+  { "lake_superior.vtp", 9, 11.5, 0.02 }, // ~1 950 triangles (paper: 1 906, 11.5 deg)
+  { "salt_dome.vtp", 10, 10.4, 0.02 },    // ~6 000 triangles (paper: 6 183, 10.4 deg)
+  { "gulf_section.vtp", 10, 1.5, 0.04 },  // ~9 800 triangles (paper: 11 015, 5.25 deg);
+                                          // junction pairs 0.7 m and 3.7 m apart bound it
+  { "salt_dome_loops.vtp", 9, 0, 0.02 },
+  // Allowance: in some configurations a vertex fanned to several curve vertices on the
+  // straight bottom border, next to the fault junction pairs, cannot be placed on a curve
+  // without flattening its fan (reported in the warnings). Known residual, at most one.
+  { "gulf_section_loops.vtp", 9, 0, 1, 1 },
+  { "lake_superior_full.vtp", 10, 0, 0.02 },
+  { "guitar.vtp", 12, 0, 0.02 },
+  { "nested_holes.vtp", 8, 0, 0.02 },
+  { "touching_loops.vtp", 8, 0, 0.02 },
+  { "pinch_out.vtp", 9, 0, 1 },            // the wedge pinches out below the resolution
+  { "thin_layer.vtp", 9, 0, 1 },           // a layer 1/1000 thick: aliased (paper 6.6)
+  { "countries_westeurope.vtp", 9, 0, 1 }, // Monaco and Liechtenstein: below resolution
+  { "countries_westeurope_loops.vtp", 9, 0, 1 },
+  { "geology_marmousi.vtp", 9, 0, 1 }, // one-pixel bands
+};
+
+strata::MesherResult mesh(const Case& c)
+{
+  strata::MesherParams p;
+  p.grid.maxLevel = c.maxLevel;
+  return strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath(c.file)), p);
+}
+
+class MesherModels : public ::testing::TestWithParam<Case>
+{
+};
+
+// Readable names in test listings.
+void PrintTo(const Case& c, std::ostream* os)
+{
+  *os << c.file << " at level " << c.maxLevel;
+}
+
+std::string caseName(const ::testing::TestParamInfo<Case>& info)
+{
+  std::string s = info.param.file;
+  s = s.substr(0, s.find('.'));
+  return s;
+}
+} // namespace
+
+TEST_P(MesherModels, InvariantsHold)
+{
+  const Case c = GetParam();
+  const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(c.file));
+  const strata::Model model = strata::buildModel(raw);
+  const strata::MesherResult r = mesh(c);
+  ASSERT_GT(r.triangles.size(), 100u);
+
+  // No inverted, degenerate or overlapping triangle: every triangle counter-clockwise, every
+  // edge in at most two triangles, and in opposite directions when in two.
+  std::map<std::pair<int, int>, int> directed;
+  for (const auto& t : r.triangles)
+  {
+    ASSERT_GT(strata::orient2d(r.points[t[0]], r.points[t[1]], r.points[t[2]]), 0.0);
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::pair<int, int> edge(t[k], t[(k + 1) % 3]);
+      ASSERT_EQ(++directed[edge], 1) << "edge used twice in one direction";
+    }
+  }
+  // Every vertex of the approximated boundary lies on an input curve.
+  const strata::BoundaryRails rails(model, 0.0);
+  strata::StripTreeScratch scratch;
+  const double tolerance = 1e-9 * model.size();
+  std::size_t boundaryVertices = 0, off = 0;
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+  {
+    if (r.vertexClass[i] == strata::VertexBoundary)
+    {
+      ++boundaryVertices;
+      double d = 0.0;
+      rails.closest(r.points[i], scratch, &d);
+      off += d > tolerance;
+    }
+  }
+  EXPECT_GT(boundaryVertices, 10u);
+  EXPECT_LE(off, static_cast<std::size_t>(c.offCurve))
+    << c.file << ": boundary vertices off the curves";
+  if (off == 0)
+  {
+    EXPECT_LE(r.summary.maxBoundaryVertexDistance, tolerance);
+  }
+  else
+  {
+    EXPECT_FALSE(r.warnings.empty()); // a residual is reported
+  }
+
+  // Areas: the whole model within 2%, each region within its case's bound.
+  double modelArea = 0.0, meshArea = 0.0;
+  for (const auto& ra : r.regionAreas)
+  {
+    modelArea += ra.model;
+    meshArea += ra.mesh;
+    if (c.regionAreaError < 1.0)
+    {
+      EXPECT_NEAR(ra.mesh, ra.model, c.regionAreaError * ra.model) << "region " << ra.id;
+    }
+  }
+  EXPECT_NEAR(meshArea, modelArea, 0.02 * modelArea);
+  if (c.minAngle > 0.0)
+  {
+    EXPECT_GE(r.summary.minAngle, c.minAngle);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(DataModels, MesherModels, ::testing::ValuesIn(kCases), caseName);
+
+TEST(MesherTest, ResultIsCompleteAndConsistent)
+{
+  const strata::MesherResult r = mesh({ "salt_dome.vtp", 9, 0, 1 });
+  const std::size_t nt = r.triangles.size(), np = r.points.size();
+  EXPECT_EQ(r.regionId.size(), nt);
+  EXPECT_EQ(r.level.size(), nt);
+  EXPECT_EQ(r.minAngle.size(), nt);
+  EXPECT_EQ(r.maxAngle.size(), nt);
+  EXPECT_EQ(r.radiusRatio.size(), nt);
+  EXPECT_EQ(r.area.size(), nt);
+  EXPECT_EQ(r.vertexClass.size(), np);
+  EXPECT_EQ(r.displacement.size(), np);
+  EXPECT_EQ(r.summary.triangles, nt);
+  EXPECT_EQ(r.summary.vertices, np);
+  EXPECT_GT(r.summary.iterations, 0);
+  EXPECT_NE(r.origin, (Vec2{ 0.0, 0.0 }));
+  double least = 180.0;
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    EXPECT_GE(r.regionId[t], 0);
+    EXPECT_GT(r.area[t], 0.0);
+    least = std::min(least, r.minAngle[t]);
+  }
+  EXPECT_EQ(least, r.summary.minAngle);
+  EXPECT_GT(r.summary.percentAngles30to60, 50.0);
+  EXPECT_GT(r.summary.percentTriangles30to60, 80.0);
+  EXPECT_GT(r.summary.maxBoundaryDeviation, 0.0);
+  // Stages, in pipeline order, and their sum.
+  std::vector<std::string> names;
+  double sum = 0.0;
+  for (const auto& s : r.summary.secondsPerStage)
+  {
+    names.push_back(s.first);
+    sum += s.second;
+  }
+  const std::vector<std::string> expected = { "model",
+    "distance field",
+    "grid",
+    "classification",
+    "compression set-up",
+    "simulation",
+    "face classification",
+    "optimization",
+    "output" };
+  EXPECT_EQ(names, expected);
+  EXPECT_LE(sum, r.summary.totalSeconds + 1e-6);
+  // The boundary in the Shared curves form: six regions and the exterior, each piece with two
+  // different labels, every piece made of vertices of the mesh.
+  ASSERT_FALSE(r.boundary.empty());
+  std::map<std::pair<double, double>, int> vertex;
+  for (const Vec2& p : r.points)
+  {
+    vertex[{ p.x, p.y }] = 1;
+  }
+  for (const auto& b : r.boundary)
+  {
+    EXPECT_NE(b.left, b.right);
+    EXPECT_GE(b.left, 0);
+    EXPECT_GE(b.points.size(), 2u);
+    for (const Vec2& p : b.points)
+    {
+      EXPECT_EQ(vertex.count({ p.x, p.y }), 1u);
+    }
+  }
+}
+
+TEST(MesherTest, BoundaryCurvesHaveTheirRegionOnTheLeft)
+{
+  // A square region: its outer border is one closed curve, counter-clockwise around it.
+  strata::RawPolylines raw;
+  raw.points = { { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 } };
+  raw.offsets = { 0, 5 };
+  raw.connectivity = { 0, 1, 2, 3, 0 };
+  raw.regionId = { 3 };
+  strata::MesherParams p;
+  p.grid.maxLevel = 6;
+  const strata::MesherResult r = strata::triangulate(raw, p);
+  ASSERT_EQ(r.boundary.size(), 1u);
+  const auto& b = r.boundary[0];
+  EXPECT_EQ(b.left, 3);
+  EXPECT_EQ(b.right, -1);
+  EXPECT_EQ(b.points.front(), b.points.back());
+  double twiceArea = 0.0;
+  for (std::size_t i = 0; i + 1 < b.points.size(); ++i)
+  {
+    twiceArea += strata::cross(b.points[i], b.points[i + 1]);
+  }
+  EXPECT_NEAR(0.5 * twiceArea, 100.0, 5.0); // counter-clockwise around the region
+  EXPECT_GT(r.summary.minAngle, 20.0);
+}
+
+TEST(MesherTest, EmptyInputGivesAnEmptyMeshWithAWarning)
+{
+  strata::RawPolylines raw;
+  raw.regionId = {};
+  raw.form = strata::ModelForm::Loops;
+  const strata::MesherResult r = strata::triangulate(raw);
+  EXPECT_TRUE(r.triangles.empty());
+  EXPECT_FALSE(r.warnings.empty());
+}
+
+TEST(MesherTest, MalformedInputThrowsInputError)
+{
+  EXPECT_THROW(strata::triangulate(strata_test::readVtpAscii(
+                 strata_test::dataPath("bad_inputs/self_intersecting_loop.vtp"))),
+    strata::InputError);
+}
+
+TEST(MesherTest, ParameterErrorsComeBeforeAnyWork)
+{
+  strata::MesherParams p;
+  p.compression.timeStep = 5.0;
+  int calls = 0;
+  EXPECT_THROW(strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("guitar.vtp")),
+                 p,
+                 [&](double, const char*) { return ++calls > 0; }),
+    strata::ParameterError);
+  EXPECT_EQ(calls, 0);
+  p = {};
+  p.grid.maxLevel = 99;
+  EXPECT_THROW(
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("guitar.vtp")), p),
+    strata::ParameterError);
+}
+
+TEST(MesherTest, ProgressIsMonotoneAndAbortIsHonouredWithin200ms)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("gulf_section.vtp"));
+  strata::MesherParams p;
+  p.grid.maxLevel = 18; // about 1e5 triangles
+  using Clock = std::chrono::steady_clock;
+  // Progress: fractions never decrease, and calls are never more than 0.2 s apart.
+  {
+    double last = -1.0, longest = 0.0;
+    Clock::time_point previous = Clock::now();
+    bool monotone = true;
+    strata::triangulate(raw,
+      p,
+      [&](double f, const char*)
+      {
+        const Clock::time_point now = Clock::now();
+        longest = std::max(longest, std::chrono::duration<double>(now - previous).count());
+        previous = now;
+        monotone &= f >= last - 1e-12;
+        last = f;
+        return true;
+      });
+    EXPECT_TRUE(monotone);
+    EXPECT_NEAR(last, 1.0, 1e-12);
+    EXPECT_LT(longest, 0.2);
+  }
+  // Abort in the middle of the simulation.
+  Clock::time_point asked{};
+  bool abortRequested = false;
+  const Clock::time_point start = Clock::now();
+  try
+  {
+    strata::triangulate(raw,
+      p,
+      [&](double f, const char*)
+      {
+        if (f > 0.4 && !abortRequested)
+        {
+          abortRequested = true;
+          asked = Clock::now();
+        }
+        return !abortRequested;
+      });
+    FAIL() << "not aborted";
+  }
+  catch (const strata::Aborted&)
+  {
+    EXPECT_TRUE(abortRequested);
+    EXPECT_LT(std::chrono::duration<double>(Clock::now() - asked).count(), 0.2);
+  }
+  (void)start;
+}

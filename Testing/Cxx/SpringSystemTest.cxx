@@ -1,0 +1,356 @@
+// Tests of the mass-spring particle system (paper Sections 6.1 and 6.2).
+#include "SpringSystem.h"
+#include "Errors.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace
+{
+using strata::Vec2;
+
+// A (n + 1) x (n + 1) lattice of unit squares split into counter-clockwise triangles; the
+// border particles are fixed.
+struct Lattice
+{
+  std::vector<Vec2> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> border;
+};
+
+Lattice lattice(int n)
+{
+  Lattice l;
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      l.points.push_back({ static_cast<double>(i), static_cast<double>(j) });
+      if (i == 0 || j == 0 || i == n || j == n)
+      {
+        l.border.push_back(j * (n + 1) + i);
+      }
+    }
+  }
+  for (int j = 0; j < n; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const int a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      l.triangles.push_back({ a, b, c });
+      l.triangles.push_back({ a, c, d });
+    }
+  }
+  return l;
+}
+
+strata::SpringSystem makeSystem(const Lattice& l,
+  const std::vector<Vec2>& start,
+  const strata::SpringParams& params = strata::SpringParams())
+{
+  strata::SpringMesh mesh;
+  mesh.triangles = l.triangles;
+  mesh.edges = strata::uniqueEdges(l.triangles);
+  strata::SpringSystem s(mesh, start, l.points, params);
+  for (int b : l.border)
+  {
+    s.setKind(b, strata::ParticleKind::Fixed);
+  }
+  return s;
+}
+
+double totalEnergy(const strata::SpringSystem& s)
+{
+  return s.kineticEnergy() + s.potentialEnergy();
+}
+} // namespace
+
+TEST(SpringSystemTest, HookeSpringPullsStretchedAndPushesCompressedEnds)
+{
+  const Vec2 dx{ 2.0, 0.0 }; // a - b
+  const Vec2 stretched = strata::edgeSpringForce(dx, {}, 1.0, 3.0, 0.0);
+  EXPECT_NEAR(stretched.x, -3.0, 1e-12); // ks (|dx| - x0) toward b
+  EXPECT_NEAR(stretched.y, 0.0, 1e-12);
+  const Vec2 compressed = strata::edgeSpringForce({ 0.5, 0.0 }, {}, 1.0, 3.0, 0.0);
+  EXPECT_NEAR(compressed.x, 1.5, 1e-12); // away from b
+  const Vec2 rest = strata::edgeSpringForce({ 0.6, 0.8 }, {}, 1.0, 3.0, 0.0);
+  EXPECT_NEAR(strata::norm(rest), 0.0, 1e-12);
+}
+
+TEST(SpringSystemTest, DampingOpposesTheRateOfStretching)
+{
+  const Vec2 dx{ 1.0, 0.0 };
+  // At rest length: only damping acts. Ends separating (dv . dx > 0): force on a toward b.
+  const Vec2 separating = strata::edgeSpringForce(dx, { 2.0, 0.0 }, 1.0, 1.0, 0.5);
+  EXPECT_NEAR(separating.x, -1.0, 1e-12); // kd (dv . dx) / |dx|
+  const Vec2 approaching = strata::edgeSpringForce(dx, { -2.0, 0.0 }, 1.0, 1.0, 0.5);
+  EXPECT_NEAR(approaching.x, 1.0, 1e-12);
+  // A sideways velocity does not change the length: no damping force.
+  const Vec2 sideways = strata::edgeSpringForce(dx, { 0.0, 5.0 }, 1.0, 1.0, 0.5);
+  EXPECT_NEAR(strata::norm(sideways), 0.0, 1e-12);
+}
+
+TEST(SpringSystemTest, ProjectionSpringIsAtRestAtItsRestLength)
+{
+  EXPECT_NEAR(strata::norm(strata::projectionSpringForce({ 0.0, 2.0 }, 2.0, 1.0)), 0.0, 1e-12);
+}
+
+TEST(SpringSystemTest, ProjectionSpringRepelsWhenCompressedAndPullsWhenStretched)
+{
+  const Vec2 up{ 0.0, 1.0 };
+  EXPECT_GT(strata::dot(strata::projectionSpringForce(0.5 * up, 1.0, 1.0), up), 0.0);
+  EXPECT_LT(strata::dot(strata::projectionSpringForce(2.0 * up, 1.0, 1.0), up), 0.0);
+}
+
+TEST(SpringSystemTest, ProjectionSpringForceGrowsWithoutBoundAsLengthGoesToZero)
+{
+  const double ks = 2.0, x0 = 3.0;
+  double previous = 0.0;
+  for (double r : { 0.5, 1e-1, 1e-2, 1e-4, 1e-8 })
+  {
+    const double f = strata::norm(strata::projectionSpringForce({ r * x0, 0.0 }, x0, ks));
+    // ks x0 (1 / r - r)
+    EXPECT_NEAR(f, ks * x0 * (1.0 / r - r), 1e-9 * f);
+    EXPECT_GT(f, previous);
+    previous = f;
+  }
+  EXPECT_GT(previous, 1e8);
+  EXPECT_GT(strata::projectionSpringEnergy(1e-6, 1.0, 1.0), 10.0);
+}
+
+TEST(SpringSystemTest, ForcesAreInternalSoTheySumToZero)
+{
+  // One triangle, deformed: edge and projection springs only exchange forces.
+  strata::SpringMesh mesh;
+  mesh.triangles = { { 0, 1, 2 } };
+  mesh.edges = strata::uniqueEdges(mesh.triangles);
+  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+  strata::SpringSystem s(mesh, { { 0.1, 0.05 }, { 0.9, -0.1 }, { 0.3, 0.2 } }, rest);
+  s.velocities() = { { 0.1, 0.0 }, { 0.0, -0.2 }, { 0.3, 0.1 } };
+  s.computeForces();
+  Vec2 sum{};
+  for (const Vec2& f : s.forces())
+  {
+    sum = sum + f;
+  }
+  EXPECT_NEAR(strata::norm(sum), 0.0, 1e-12);
+  EXPECT_GT(strata::norm(s.forces()[2]), 0.1); // the squeezed corner is pushed
+}
+
+TEST(SpringSystemTest, SystemAtRestStaysAtRest)
+{
+  const Lattice l = lattice(6);
+  strata::SpringSystem s = makeSystem(l, l.points);
+  for (int step = 0; step < 1000; ++step)
+  {
+    s.step(0.1);
+  }
+  for (std::size_t i = 0; i < l.points.size(); ++i)
+  {
+    EXPECT_NEAR(s.positions()[i].x, l.points[i].x, 1e-12);
+    EXPECT_NEAR(s.positions()[i].y, l.points[i].y, 1e-12);
+  }
+  EXPECT_LT(s.kineticEnergy(), 1e-24);
+}
+
+TEST(SpringSystemTest, EnergyDecaysWithDamping)
+{
+  for (strata::SpringConfiguration c :
+    { strata::SpringConfiguration::EdgeOnly, strata::SpringConfiguration::EdgeAndProjection })
+  {
+    const Lattice l = lattice(6);
+    std::vector<Vec2> start = l.points;
+    start[3 * 7 + 3] = start[3 * 7 + 3] + Vec2{ 0.3, 0.2 }; // an inner particle displaced
+    strata::SpringParams p;
+    p.configuration = c;
+    strata::SpringSystem s = makeSystem(l, start, p);
+    const double e0 = totalEnergy(s);
+    ASSERT_GT(e0, 0.0);
+    double highest = e0;
+    for (int step = 0; step < 600; ++step)
+    {
+      s.step(0.1);
+      highest = std::max(highest, totalEnergy(s));
+    }
+    EXPECT_LE(highest, 1.02 * e0); // never gains energy (beyond symplectic wobble)
+    EXPECT_LT(totalEnergy(s), 1e-3 * e0);
+  }
+}
+
+TEST(SpringSystemTest, UndampedEnergyStaysBoundedWithSymplecticEuler)
+{
+  const Lattice l = lattice(5);
+  std::vector<Vec2> start = l.points;
+  start[2 * 6 + 2] = start[2 * 6 + 2] + Vec2{ 0.2, -0.1 };
+  strata::SpringParams p;
+  p.damping = 0.0;
+  strata::SpringSystem s = makeSystem(l, start, p);
+  const double e0 = totalEnergy(s);
+  double lowest = e0, highest = e0;
+  for (int step = 0; step < 5000; ++step)
+  {
+    s.step(0.1);
+    lowest = std::min(lowest, totalEnergy(s));
+    highest = std::max(highest, totalEnergy(s));
+  }
+  // Bounded (the stable mass varies a little with the configuration, so the energy is not
+  // exactly conserved, but it neither blows up nor dies out).
+  EXPECT_GT(lowest, 0.5 * e0);
+  EXPECT_LT(highest, 1.5 * e0);
+}
+
+TEST(SpringSystemTest, NearlyCollapsedTriangleDoesNotThrowParticlesAway)
+{
+  // A corner squeezed to 1% of its height: its projection spring is 1e4 times stiffer; the
+  // stable mass keeps the step bounded, and no coordinate becomes NaN.
+  strata::SpringMesh mesh;
+  mesh.triangles = { { 0, 1, 2 } };
+  mesh.edges = strata::uniqueEdges(mesh.triangles);
+  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
+  strata::SpringSystem s(mesh, { { 0, 0 }, { 1, 0 }, { 0.5, 0.01 } }, rest);
+  s.setKind(0, strata::ParticleKind::Fixed);
+  s.setKind(1, strata::ParticleKind::Fixed);
+  for (int step = 0; step < 2000; ++step)
+  {
+    const Vec2 before = s.positions()[2];
+    s.step(0.1);
+    ASSERT_TRUE(std::isfinite(s.positions()[2].x) && std::isfinite(s.positions()[2].y));
+    EXPECT_LE(
+      strata::norm(s.positions()[2] - before), s.params().maxStep * s.localLength(2) + 1e-12);
+  }
+  EXPECT_NEAR(s.positions()[2].y, 1.0, 1e-3); // back at rest
+}
+
+TEST(SpringSystemTest, GuardCanVetoAMove)
+{
+  struct NoUp : strata::MoveGuard
+  {
+    bool accept(int, Vec2 from, Vec2 to) override { return to.y <= from.y; }
+  };
+  strata::SpringMesh mesh;
+  mesh.triangles = { { 0, 1, 2 } };
+  mesh.edges = strata::uniqueEdges(mesh.triangles);
+  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
+  strata::SpringSystem s(mesh, { { 0, 0 }, { 1, 0 }, { 0.5, 0.5 } }, rest);
+  s.setKind(0, strata::ParticleKind::Fixed);
+  s.setKind(1, strata::ParticleKind::Fixed);
+  NoUp guard;
+  for (int step = 0; step < 100; ++step)
+  {
+    s.step(0.1, &guard);
+  }
+  EXPECT_EQ(s.positions()[2].y, 0.5);
+  EXPECT_EQ(strata::norm(s.velocities()[2]), 0.0);
+}
+
+TEST(SpringSystemTest, DrivenAndFixedParticlesAreNotIntegrated)
+{
+  const Lattice l = lattice(3);
+  std::vector<Vec2> start = l.points;
+  start[5] = start[5] + Vec2{ 0.2, 0.2 };
+  strata::SpringSystem s = makeSystem(l, start);
+  s.setKind(5, strata::ParticleKind::Driven);
+  s.step(0.1);
+  EXPECT_EQ(s.positions()[5], start[5]);
+  EXPECT_GT(strata::norm(s.forces()[5]), 0.0); // but its force is known
+}
+
+TEST(SpringSystemTest, ConfigurationsArePluggable)
+{
+  const Lattice l = lattice(2);
+  strata::SpringParams edgeOnly;
+  edgeOnly.configuration = strata::SpringConfiguration::EdgeOnly;
+  EXPECT_EQ(makeSystem(l, l.points, edgeOnly).numberOfSpringSets(), 1u);
+  strata::SpringSystem s = makeSystem(l, l.points);
+  EXPECT_EQ(s.numberOfSpringSets(), 2u);
+  // A new set: a constant pull on particle 4 (the centre).
+  struct Pull : strata::SpringSet
+  {
+    const char* name() const override { return "pull"; }
+    void initialize(const strata::SpringMesh&, const std::vector<Vec2>&) override {}
+    void flipped(const strata::SpringMesh&, const std::vector<Vec2>&, int, int, int) override {}
+    void addForces(const strata::SpringMesh&,
+      const strata::ParticleState& st,
+      const strata::SpringParams&) const override
+    {
+      st.f[4] = st.f[4] + Vec2{ 1.0, 0.0 };
+    }
+    double energy(const strata::SpringMesh&,
+      const std::vector<Vec2>&,
+      const strata::SpringParams&) const override
+    {
+      return 0.0;
+    }
+  };
+  s.addSpringSet(std::make_unique<Pull>());
+  s.computeForces();
+  EXPECT_NEAR(s.forces()[4].x, 1.0, 1e-12);
+  for (int step = 0; step < 500; ++step)
+  {
+    s.step(0.1);
+  }
+  EXPECT_GT(s.positions()[4].x, 1.05); // pulled right, held by the springs
+  EXPECT_LT(s.positions()[4].x, 1.9);
+}
+
+TEST(SpringSystemTest, FlipTakesTheCurrentLengthsAsRest)
+{
+  // Two triangles forming a square; flip the diagonal at a deformed state: the new diagonal
+  // and both new triangles are at rest, so only the unchanged edges act.
+  strata::SpringMesh mesh;
+  mesh.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
+  mesh.edges = strata::uniqueEdges(mesh.triangles);
+  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+  strata::SpringSystem s(mesh, rest, rest);
+  int diagonal = -1;
+  for (std::size_t e = 0; e < s.mesh().edges.size(); ++e)
+  {
+    if (s.mesh().edges[e] == std::array<int, 2>{ 0, 2 })
+    {
+      diagonal = static_cast<int>(e);
+    }
+  }
+  ASSERT_GE(diagonal, 0);
+  s.flip(diagonal, { 1, 3 }, 0, { 3, 0, 1 }, 1, { 1, 2, 3 });
+  s.computeForces();
+  for (const Vec2& f : s.forces())
+  {
+    EXPECT_NEAR(strata::norm(f), 0.0, 1e-12);
+  }
+  EXPECT_EQ(s.mesh().edges[diagonal], (std::array<int, 2>{ 1, 3 }));
+}
+
+TEST(SpringSystemTest, RejectsParametersOutOfRangeNamingThem)
+{
+  const Lattice l = lattice(1);
+  const auto message = [&](strata::SpringParams p)
+  {
+    try
+    {
+      makeSystem(l, l.points, p);
+    }
+    catch (const strata::ParameterError& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  strata::SpringParams p;
+  p.stiffness = 0.0;
+  EXPECT_NE(message(p).find("SpringStiffness"), std::string::npos);
+  p = {};
+  p.damping = -1.0;
+  EXPECT_NE(message(p).find("Damping"), std::string::npos);
+  p = {};
+  p.mass = 0.0;
+  EXPECT_NE(message(p).find("Mass"), std::string::npos);
+  p = {};
+  p.maxStep = 2.0;
+  EXPECT_NE(message(p).find("MaxStep"), std::string::npos);
+  EXPECT_THROW(strata::SpringSystem(
+                 strata::SpringMesh{ { { 0, 1, 5 } }, {} }, { { 0, 0 }, { 1, 0 }, { 0, 1 } }),
+    strata::ParameterError);
+}
