@@ -38,6 +38,29 @@ class PluginTest(unittest.TestCase):
             menu = hints.FindNestedElementByName("ShowInMenu")
             self.assertEqual(menu.GetAttribute("category"), "StrataMesh", name)
 
+    def test_region_array_properties_offer_the_inputs_cell_arrays(self):
+        from paraview import simple
+        for model, expected in (("pinch_out.vtp", ("LeftRegion", "RightRegion")),
+                                ("lake_superior.vtp", ("RegionId", "RegionId"))):
+            reader = simple.XMLPolyDataReader(FileName=[st.data(model)])
+            reader.UpdatePipeline()
+            for name in ("PhysicalCompressionTriangulation", "Adaptive48Grid",
+                         "Classify48Grid"):
+                proxy = self.ns[name](Input=reader)
+                domain = proxy.SMProxy.GetProperty("LeftRegionArrayName").GetDomain(
+                    "array_list")
+                offered = [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+                self.assertEqual(sorted(set(offered)), sorted(set(expected)), name)
+                # The documented default is kept when the input has that array.
+                if model == "pinch_out.vtp":
+                    self.assertEqual(proxy.LeftRegionArrayName, "LeftRegion")
+                    self.assertEqual(proxy.RightRegionArrayName, "RightRegion")
+                else:
+                    self.assertEqual(proxy.RegionArrayName, "RegionId")
+                proxy.UpdatePipeline()
+                self.assertGreater(proxy.GetDataInformation().GetNumberOfCells(), 0, name)
+                simple.Delete(proxy)
+
 
 if __name__ == "__main__":
     result = unittest.main(exit=False, verbosity=2).result
