@@ -73,8 +73,42 @@ std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyDat
   return this->Session;
 }
 
-int vtkAdaptive48Grid::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::ExtractMesh(vtkPolyData* input,
+  strata::TriangleMesh& mesh,
+  const std::function<void(strata::GridSession&, const strata::TriangleMesh&)>& more)
+{
+  if (!this->CheckProperties())
+  {
+    return nullptr;
+  }
+  std::shared_ptr<strata::GridSession> session;
+  try
+  {
+    session = this->UpdateSession(input);
+    if (!session->empty())
+    {
+      mesh = session->extract(this->OutputLevel);
+      if (more)
+      {
+        more(*session, mesh);
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    vtkErrorMacro(<< e.what());
+    return nullptr;
+  }
+  for (const std::string& warning : session->warnings())
+  {
+    vtkWarningMacro(<< warning);
+  }
+  return session;
+}
+
+int vtkAdaptive48Grid::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector, 0);
@@ -83,32 +117,15 @@ int vtkAdaptive48Grid::RequestData(
     vtkErrorMacro(<< "missing input or output");
     return 0;
   }
-  if (!this->CheckProperties())
-  {
-    return 0;
-  }
-  std::shared_ptr<strata::GridSession> session;
   strata::TriangleMesh mesh;
-  try
+  const std::shared_ptr<strata::GridSession> session = this->ExtractMesh(input, mesh);
+  if (!session)
   {
-    session = this->UpdateSession(input);
-    if (!session->empty())
-    {
-      mesh = session->extract(this->OutputLevel);
-    }
-  }
-  catch (const std::exception& e)
-  {
-    vtkErrorMacro(<< e.what());
     return 0;
-  }
-  for (const std::string& warning : session->warnings())
-  {
-    vtkWarningMacro(<< warning);
   }
   if (session->empty())
   {
-    return 1; // empty model: empty output (with the warning above)
+    return 1; // empty model: empty output (with the warning reported)
   }
 
   vtkStrataMeshOutput::SetTriangles(output, mesh.points, mesh.triangles, session->model().origin);

@@ -24,13 +24,15 @@
 #include "StrataMeshFiltersModule.h" // for export macro
 #include "vtkStrataMeshAlgorithm.h"
 
-#include <memory> // for std::shared_ptr
-#include <string> // for std::string
+#include <functional> // for std::function
+#include <memory>     // for std::shared_ptr
+#include <string>     // for std::string
 
 class vtkUnstructuredGrid;
 namespace strata
 {
 class GridSession;
+struct TriangleMesh;
 }
 
 class STRATAMESHFILTERS_EXPORT vtkAdaptive48Grid : public vtkStrataMeshAlgorithm
@@ -70,6 +72,15 @@ protected:
   /// The session for this input and these parameters, reused when possible (throws what the
   /// core throws, after dropping the session). Shared with vtkClassify48Grid.
   std::shared_ptr<strata::GridSession> UpdateSession(vtkPolyData* input);
+
+  /// The common part of RequestData, shared with vtkClassify48Grid: checks the properties,
+  /// updates the session and, unless the model is empty, extracts the mesh of OutputLevel into
+  /// `mesh` and runs `more` on it (further core work, under the same error handling); then
+  /// reports the session's warnings. Returns the session (empty for an empty model), or null
+  /// after reporting an error.
+  std::shared_ptr<strata::GridSession> ExtractMesh(vtkPolyData* input,
+    strata::TriangleMesh& mesh,
+    const std::function<void(strata::GridSession&, const strata::TriangleMesh&)>& more = nullptr);
 
   int OutputLevel = -1;
 

@@ -15,7 +15,6 @@
 #include <vtkPolyData.h>
 #include <vtkUnstructuredGrid.h>
 
-#include <exception>
 #include <limits>
 
 vtkStandardNewMacro(vtkClassify48Grid);
@@ -49,37 +48,23 @@ int vtkClassify48Grid::RequestData(
     vtkErrorMacro(<< "missing input or output");
     return 0;
   }
-  if (!this->CheckProperties())
-  {
-    return 0;
-  }
-  std::shared_ptr<strata::GridSession> session;
   strata::TriangleMesh mesh;
   strata::Classification classes;
-  try
-  {
-    session = this->UpdateSession(input);
-    if (!session->empty())
+  const std::shared_ptr<strata::GridSession> session = this->ExtractMesh(input,
+    mesh,
+    [&](strata::GridSession& s, const strata::TriangleMesh& m)
     {
-      mesh = session->extract(this->OutputLevel);
       strata::ClassificationParams params;
       params.boundaryTolerance = this->BoundaryTolerance;
-      classes = session->classify(
-        mesh, params, strata::ProgressReporter(this->ProgressCallback(), 0.8, 1.0));
-    }
-  }
-  catch (const std::exception& e)
+      classes = s.classify(m, params, strata::ProgressReporter(this->ProgressCallback(), 0.8, 1.0));
+    });
+  if (!session)
   {
-    vtkErrorMacro(<< e.what());
     return 0;
-  }
-  for (const std::string& warning : session->warnings())
-  {
-    vtkWarningMacro(<< warning);
   }
   if (session->empty())
   {
-    return 1; // empty model: empty outputs (with the warning above)
+    return 1; // empty model: empty outputs (with the warning reported)
   }
 
   const strata::Vec2 origin = session->model().origin;

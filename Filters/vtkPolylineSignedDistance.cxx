@@ -153,11 +153,10 @@ void vtkPolylineSignedDistance::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Model: " << this->Internal->Model.Get() << "\n";
   os << indent << "Region: " << this->Region << "\n";
-  os << indent << "Form: " << this->Form << "\n";
-  os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)")
-     << "\n";
-  os << indent << "LeftRegionArrayName: "
-     << (this->LeftRegionArrayName ? this->LeftRegionArrayName : "(none)") << "\n";
-  os << indent << "RightRegionArrayName: "
-     << (this->RightRegionArrayName ? this->RightRegionArrayName : "(none)") << "\n";
+  vtkStrataMeshInput::PrintSelection(os,
+    indent,
+    this->Form,
+    this->RegionArrayName,
+    this->LeftRegionArrayName,
+    this->RightRegionArrayName);
 }

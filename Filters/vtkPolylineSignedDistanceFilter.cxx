@@ -255,13 +255,12 @@ int vtkPolylineSignedDistanceFilter::RequestData(
 void vtkPolylineSignedDistanceFilter::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Form: " << this->Form << "\n";
-  os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)")
-     << "\n";
-  os << indent << "LeftRegionArrayName: "
-     << (this->LeftRegionArrayName ? this->LeftRegionArrayName : "(none)") << "\n";
-  os << indent << "RightRegionArrayName: "
-     << (this->RightRegionArrayName ? this->RightRegionArrayName : "(none)") << "\n";
+  vtkStrataMeshInput::PrintSelection(os,
+    indent,
+    this->Form,
+    this->RegionArrayName,
+    this->LeftRegionArrayName,
+    this->RightRegionArrayName);
   os << indent << "SampleDimensions: " << this->SampleDimensions[0] << " "
      << this->SampleDimensions[1] << "\n";
 }

@@ -1,5 +1,6 @@
 #include "vtkStrataMeshAlgorithm.h"
 
+#include "vtkStrataMeshInput.h"
 #include "vtkStrataMeshRange.h"
 
 #include <limits>
@@ -53,13 +54,12 @@ bool vtkStrataMeshAlgorithm::CheckProperties()
 void vtkStrataMeshAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Form: " << this->Form << "\n";
-  os << indent << "RegionArrayName: " << (this->RegionArrayName ? this->RegionArrayName : "(none)")
-     << "\n";
-  os << indent << "LeftRegionArrayName: "
-     << (this->LeftRegionArrayName ? this->LeftRegionArrayName : "(none)") << "\n";
-  os << indent << "RightRegionArrayName: "
-     << (this->RightRegionArrayName ? this->RightRegionArrayName : "(none)") << "\n";
+  vtkStrataMeshInput::PrintSelection(os,
+    indent,
+    this->Form,
+    this->RegionArrayName,
+    this->LeftRegionArrayName,
+    this->RightRegionArrayName);
   os << indent << "MaxLevel: " << this->MaxLevel << "\n";
   os << indent << "LocalMaxLevel: " << this->LocalMaxLevel << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";

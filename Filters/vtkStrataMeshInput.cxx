@@ -150,3 +150,17 @@ strata::Model vtkStrataMeshInput::BuildModel(vtkPolyData* input, const Selection
 {
   return strata::buildModel(ToRaw(input, selection));
 }
+
+void vtkStrataMeshInput::PrintSelection(ostream& os,
+  vtkIndent indent,
+  int form,
+  const char* regionArray,
+  const char* leftRegionArray,
+  const char* rightRegionArray)
+{
+  os << indent << "Form: " << form << "\n";
+  os << indent << "RegionArrayName: " << (regionArray ? regionArray : "(none)") << "\n";
+  os << indent << "LeftRegionArrayName: " << (leftRegionArray ? leftRegionArray : "(none)") << "\n";
+  os << indent << "RightRegionArrayName: " << (rightRegionArray ? rightRegionArray : "(none)")
+     << "\n";
+}

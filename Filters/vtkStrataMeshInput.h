@@ -15,6 +15,8 @@
 
 #include "Model.h" // strata::Model, strata::RawPolylines
 
+#include <vtkIndent.h> // vtkIndent, ostream
+
 #include <string>
 
 class vtkPolyData;
@@ -49,6 +51,15 @@ public:
 
   /// ToRaw followed by strata::buildModel.
   static strata::Model BuildModel(vtkPolyData* input, const Selection& selection);
+
+  /// Prints a filter's model-reading properties (Form and the three array names, "(none)"
+  /// for a null name), as its PrintSelf does.
+  static void PrintSelection(ostream& os,
+    vtkIndent indent,
+    int form,
+    const char* regionArray,
+    const char* leftRegionArray,
+    const char* rightRegionArray);
 };
 
 #endif

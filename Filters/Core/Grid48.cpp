@@ -45,7 +45,19 @@
 //  (b) local (Section 2.1, l < localMaxLevel): T (closed) contains two or more polygon
 //      vertices, or is crossed (touched) by the segments of two or more boundary curves;
 //  (c) thin regions (l < localMaxLevel): T is crossed by one curve in two or more separate
-//      strands.
+//      strands;
+//  (d) close feature points, beyond the paper (l < junctionMaxLevel, which may exceed
+//      localMaxLevel; default localMaxLevel + 8): T (closed) contains two or more feature
+//      points: Model::junctions and, with featurePointAngle > 0, curve vertices sharper than
+//      it. Compression gives each junction its own mesh vertex, so junctions much closer than
+//      the local edges (gulf_section: pairs 0.7 m, 3.7 m and 10.9 m apart among 60-180 m
+//      edges) made slivers (2.1 degrees at MaxLevel 10); separating them into different
+//      triangles makes the edges there comparable to their distance, and the 4-8 grading
+//      keeps the triangles around well shaped (12.7 degrees, +1.5% triangles). Cheap: only
+//      the feature points whose nearest other feature point is within the hypotenuse of
+//      localMaxLevel are kept (a handful), sorted by x; T is tested against those within its
+//      hypotenuse of each other, and only when (b) did not already decide (below
+//      localMaxLevel (b) splits any triangle holding two model vertices).
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
 // shared by two loops in the Loops form is counted once) chained through the nodes where
 // exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
@@ -691,6 +703,12 @@ public:
     this->IndexReach = 4.0 * this->Index->cellSize();
     this->Local = this->P.localMaxLevel > this->P.maxLevel &&
       (this->P.localRefinement || this->P.thinRegionRefinement);
+    this->TopLevel = std::max(this->P.maxLevel, this->P.localMaxLevel);
+    if (this->P.junctionRefinement && this->P.junctionMaxLevel > 0)
+    {
+      this->TopLevel = std::max(this->TopLevel, this->P.junctionMaxLevel);
+      this->collectFeaturePoints(model);
+    }
   }
 
   // Whether leaf t meets a criterion; *distance receives the boundary distance of the
@@ -700,7 +718,7 @@ public:
     *distance = kNaN;
     std::uint8_t& flags = this->G.Level[t];
     const int level = flags & Grid48::kLevelMask;
-    if (level >= this->P.maxLevel && level >= this->P.localMaxLevel)
+    if (level >= this->TopLevel)
     {
       return false;
     }
@@ -776,7 +794,8 @@ public:
         this->G.Level[partner] |= add;
       }
     }
-    if (level < this->P.localMaxLevel && this->Local && !(flags & kEmpty))
+    const bool localTested = level < this->P.localMaxLevel && this->Local && !(flags & kEmpty);
+    if (localTested)
     {
       ++this->G.Stats.localTests;
       const Vec2 a = this->G.vertexPosition(v[0]);
@@ -792,6 +811,13 @@ public:
       {
         flags |= kEmpty;
       }
+    }
+    // (d) close feature points. When the local test ran with localRefinement and said no, T
+    // holds at most one model vertex, hence at most one feature point.
+    if (level < this->P.junctionMaxLevel && !this->FeatureX.empty() && !(flags & kEmpty) &&
+      !(localTested && this->P.localRefinement))
+    {
+      return this->twoFeaturePoints(v, level);
     }
     return false;
   }
@@ -842,10 +868,105 @@ public:
   }
 
 private:
+  // The feature points (junctions, and vertices sharper than featurePointAngle) whose nearest
+  // other feature point is within the largest hypotenuse at which (d) can matter, sorted by x,
+  // with that nearest distance.
+  void collectFeaturePoints(const Model& model)
+  {
+    std::vector<int> ids(model.junctions.begin(), model.junctions.end());
+    if (this->P.featurePointAngle > 0.0)
+    {
+      const double cosLimit = std::cos(this->P.featurePointAngle * 3.14159265358979323846 / 180.0);
+      for (const Curve& c : model.curves)
+      {
+        const std::size_t n = c.points.size();
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          if (!c.closed && (i == 0 || i + 1 == n))
+          {
+            continue; // curve ends: junctions or nodes of degree two between curves
+          }
+          const Vec2 p = c.points[i];
+          const Vec2 u = c.points[(i + n - 1) % n] - p;
+          const Vec2 w = c.points[(i + 1) % n] - p;
+          const double nu = norm(u) * norm(w);
+          // angle(u, w) < featurePointAngle  <=>  cos(angle) > cos(featurePointAngle)
+          if (nu > 0.0 && dot(u, w) / nu > cosLimit)
+          {
+            ids.push_back(c.nodes[i]);
+          }
+        }
+      }
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::vector<Vec2> pts;
+    pts.reserve(ids.size());
+    for (int id : ids)
+    {
+      pts.push_back(model.nodes[id]);
+    }
+    std::sort(pts.begin(), pts.end(), [](Vec2 a, Vec2 b) { return a.x < b.x; });
+    // Below localMaxLevel the local criterion (b) already splits triangles holding two model
+    // vertices; (d) matters there only without it.
+    const int from = this->Local && this->P.localRefinement ? this->P.localMaxLevel : 0;
+    const double reach = this->G.hypotenuseLength(from) * (1.0 + 1e-9);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+    {
+      double best = HUGE_VAL;
+      for (std::size_t j = i + 1; j < pts.size() && pts[j].x - pts[i].x < std::min(best, reach);
+           ++j)
+      {
+        best = std::min(best, norm(pts[j] - pts[i]));
+      }
+      for (std::size_t j = i; j-- > 0 && pts[i].x - pts[j].x < std::min(best, reach);)
+      {
+        best = std::min(best, norm(pts[j] - pts[i]));
+      }
+      if (best <= reach)
+      {
+        this->FeatureX.push_back(pts[i].x);
+        this->FeatureY.push_back(pts[i].y);
+        this->FeatureNearest.push_back(best);
+      }
+    }
+  }
+
+  // Whether the closed triangle v holds two or more of the feature points kept.
+  bool twoFeaturePoints(const std::array<int, 3>& v, int level)
+  {
+    ++this->G.Stats.featureTests;
+    const Vec2 a = this->G.vertexPosition(v[0]);
+    const Vec2 b = this->G.vertexPosition(v[1]);
+    const Vec2 c = this->G.vertexPosition(v[2]);
+    // Two points in T are at most its hypotenuse apart.
+    const double h = this->G.hypotenuseLength(level) * (1.0 + 1e-9);
+    const double x0 = std::min({ a.x, b.x, c.x });
+    const double x1 = std::max({ a.x, b.x, c.x });
+    const double y0 = std::min({ a.y, b.y, c.y });
+    const double y1 = std::max({ a.y, b.y, c.y });
+    int count = 0;
+    for (auto it = std::lower_bound(this->FeatureX.begin(), this->FeatureX.end(), x0);
+         it != this->FeatureX.end() && *it <= x1;
+         ++it)
+    {
+      const std::size_t i = static_cast<std::size_t>(it - this->FeatureX.begin());
+      const double y = this->FeatureY[i];
+      if (this->FeatureNearest[i] <= h && y >= y0 && y <= y1 &&
+        pointInTriangle({ *it, y }, a, b, c) && ++count >= 2)
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
   Grid48& G;
   const DistanceField& Field;
   const Grid48Params& P;
   std::unique_ptr<BoundaryIndex> Index;
+  int TopLevel = 0; // no criterion splits a leaf of this level or finer
+  std::vector<double> FeatureX, FeatureY, FeatureNearest;
   bool Local = false;
   double IndexReach = 0.0; // hypotenuses up to this length are decided with the index
   DistanceField::Scratch Scratch;
@@ -923,6 +1044,23 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
     throw ParameterError("Grid48: LocalMaxLevel " + std::to_string(p.localMaxLevel) +
       " is not -1 (automatic) or in [MaxLevel = " + std::to_string(p.maxLevel) + ", " +
       std::to_string(MaxSupportedLevel) + "]");
+  }
+  if (p.junctionMaxLevel == -1)
+  {
+    p.junctionMaxLevel = p.localMaxLevel > p.maxLevel
+      ? std::min(p.localMaxLevel + 8, MaxSupportedLevel)
+      : p.localMaxLevel;
+  }
+  else if (p.junctionMaxLevel < p.localMaxLevel || p.junctionMaxLevel > MaxSupportedLevel)
+  {
+    throw ParameterError("Grid48: JunctionMaxLevel " + std::to_string(p.junctionMaxLevel) +
+      " is not -1 (automatic) or in [LocalMaxLevel = " + std::to_string(p.localMaxLevel) + ", " +
+      std::to_string(MaxSupportedLevel) + "]");
+  }
+  if (!(p.featurePointAngle >= 0.0 && p.featurePointAngle <= 180.0))
+  {
+    throw ParameterError(
+      "Grid48: FeaturePointAngle " + std::to_string(p.featurePointAngle) + " is not in [0, 180]");
   }
   if (!(p.tolerance >= 0.0) || !std::isfinite(p.tolerance))
   {

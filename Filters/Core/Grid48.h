@@ -144,6 +144,25 @@ struct Grid48Params
   /// Margin of the square domain around the model's bounds, as a fraction of the larger side
   /// of the bounds, added on every side. Range [0, 1].
   double margin = 0.05;
+  /// Beyond the paper (close feature points): also split triangles (closed) that contain two
+  /// or more model feature points, up to junctionMaxLevel, which may exceed localMaxLevel.
+  /// Feature points are the Model::junctions (nodes where the number of boundary segments is
+  /// not two: 3+ branches or curve ends) and, when featurePointAngle > 0, the vertices inside
+  /// a curve whose angle is below it. Compression puts one mesh vertex on each of them, so two
+  /// of them much closer than the local edges (0.7 m apart among 100 m edges) leave slivers;
+  /// splitting until they lie in different triangles makes the edges there comparable to
+  /// their distance, and the 4-8 grading keeps the triangles around well shaped. Only the
+  /// feature points whose nearest other feature point is within a triangle's hypotenuse are
+  /// tested, so this costs little (models have few close feature points).
+  bool junctionRefinement = true;
+  /// Level cap of junctionRefinement. Range [localMaxLevel, 60], or -1 for
+  /// min(localMaxLevel + 8, 60) (hypotenuses 16 times shorter than at localMaxLevel) when
+  /// localMaxLevel > maxLevel, else localMaxLevel (no local refinement of any kind). Equal to
+  /// localMaxLevel: nothing beyond (b) unless localRefinement is off.
+  int junctionMaxLevel = -1;
+  /// Vertices inside a curve whose angle (between the two segments, in degrees) is below this
+  /// are feature points too (for junctionRefinement). Range [0, 180]; 0: junctions only.
+  double featurePointAngle = 0.0;
 };
 
 /// Counters of the work done by the refinement calls so far (summed over calls).
@@ -154,6 +173,7 @@ struct Grid48Statistics
   std::size_t distanceQueries = 0; ///< DistanceField::boundaryDistance calls
   std::size_t indexQueries = 0;    ///< global criterion decided with the BoundaryIndex instead
   std::size_t localTests = 0;      ///< triangles tested against the model's segments/vertices
+  std::size_t featureTests = 0;    ///< triangles tested against the close feature points
 };
 
 /// An adaptive 4-8 mesh over a square domain. Level 0 is the square split into four right

@@ -2,6 +2,8 @@
 #include "vtkAdaptive48Grid.h"
 #include "vtkClassify48Grid.h"
 
+#include "AdapterTestUtilities.h"
+
 #include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
@@ -21,29 +23,8 @@
 #include <map>
 #include <string>
 
-namespace
-{
-
-vtkSmartPointer<vtkXMLPolyDataReader> Reader(const std::string& name)
-{
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName((std::string(STRATAMESH_DATA_DIR) + "/" + name).c_str());
-  return reader;
-}
-
-double SignedArea(vtkUnstructuredGrid* grid, vtkIdType cell)
-{
-  vtkIdType npts = 0;
-  const vtkIdType* ids = nullptr;
-  grid->GetCellPoints(cell, npts, ids);
-  double a[3], b[3], c[3];
-  grid->GetPoint(ids[0], a);
-  grid->GetPoint(ids[1], b);
-  grid->GetPoint(ids[2], c);
-  return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
-} // namespace
+using strata_test::Reader;
+using strata_test::SignedArea;
 
 TEST(Adaptive48GridFilterTest, grid_is_counter_clockwise_right_triangles_tiling_a_square)
 {
@@ -179,14 +160,9 @@ TEST(Adaptive48GridFilterTest, bad_model_fails_the_request_with_its_error)
   auto reader = Reader("bad_inputs/self_intersecting_loop.vtp");
   vtkNew<vtkClassify48Grid> filter;
   filter->SetInputConnection(reader->GetOutputPort());
-  std::string errors;
-  vtkNew<vtkCallbackCommand> log;
-  log->SetClientData(&errors);
-  log->SetCallback([](vtkObject*, unsigned long, void* data, void* text)
-    { *static_cast<std::string*>(data) += static_cast<const char*>(text); });
-  filter->AddObserver(vtkCommand::ErrorEvent, log);
+  auto log = strata_test::Watch(filter);
   filter->Update();
-  EXPECT_NE(errors.find("250"), std::string::npos) << errors;
+  EXPECT_NE(log->Errors.find("250"), std::string::npos) << log->Errors;
   EXPECT_EQ(filter->GetOutput()->GetNumberOfCells(), 0);
 }
 

@@ -2,6 +2,7 @@
 // to every segment, even-odd over every ring, every segment against every edge).
 #include "Classification.h"
 
+#include "CoreTestUtilities.h"
 #include "DistanceField.h"
 #include "Errors.h"
 #include "VtpAscii.h"
@@ -37,7 +38,7 @@ const Loaded& load(const std::string& name)
   if (!entry)
   {
     entry = std::make_unique<Loaded>();
-    entry->model = strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath(name)));
+    entry->model = strata_test::loadModel(name);
     entry->field = std::make_unique<strata::DistanceField>(entry->model);
   }
   return *entry;
@@ -98,12 +99,7 @@ public:
 
   double distance(Vec2 p) const
   {
-    double best = HUGE_VAL;
-    for (std::size_t s = 0; s < this->A.size(); ++s)
-    {
-      best = std::min(best, strata::pointSegmentDistance2(p, this->A[s], this->B[s]));
-    }
-    return std::sqrt(best);
+    return std::sqrt(strata_test::bruteForceDistance2(this->A, this->B, p));
   }
 
   // Region by the even-odd rule over each region's rings (-1 for none); the models are

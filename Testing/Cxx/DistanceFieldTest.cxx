@@ -4,6 +4,7 @@
 // extensions, corners, horizontal rays through vertices, vertices shared by several rings).
 #include "DistanceField.h"
 
+#include "CoreTestUtilities.h"
 #include "Errors.h"
 #include "Model.h"
 #include "VtpAscii.h"
@@ -32,25 +33,9 @@ using strata::Region;
 using strata::Ring;
 using strata::Vec2;
 
-const std::vector<std::string> kModels = { "lake_superior.vtp",
-  "lake_superior_full.vtp",
-  "nested_holes.vtp",
-  "touching_loops.vtp",
-  "gulf_section.vtp",
-  "gulf_section_loops.vtp",
-  "salt_dome.vtp",
-  "salt_dome_loops.vtp",
-  "countries_westeurope.vtp",
-  "countries_westeurope_loops.vtp",
-  "geology_marmousi.vtp",
-  "pinch_out.vtp",
-  "thin_layer.vtp",
-  "guitar.vtp" };
-
-Model loadModel(const std::string& name)
-{
-  return strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath(name)));
-}
+using strata_test::kModels;
+using strata_test::loadModel;
+using strata_test::randomPoints;
 
 /// A Loops-form model from rings given region by region, each ring oriented with its region on
 /// the left. Equal coordinates get equal node ids; segment i of the k-th ring overall belongs
@@ -143,12 +128,7 @@ public:
 
   double distance(Vec2 p) const
   {
-    double best = HUGE_VAL;
-    for (std::size_t s = 0; s < this->A.size(); ++s)
-    {
-      best = std::min(best, strata::pointSegmentDistance2(p, this->A[s], this->B[s]));
-    }
-    return std::sqrt(best);
+    return std::sqrt(strata_test::bruteForceDistance2(this->A, this->B, p));
   }
 
   const Box2& bounds() const { return this->Box; }
@@ -232,19 +212,6 @@ struct Tally
     }
   }
 };
-
-std::vector<Vec2> randomPoints(const Box2& box, double margin, std::size_t n, std::mt19937_64& rng)
-{
-  const double mx = margin * std::max(box.width(), box.height());
-  std::uniform_real_distribution<double> ux(box.min.x - mx, box.max.x + mx);
-  std::uniform_real_distribution<double> uy(box.min.y - mx, box.max.y + mx);
-  std::vector<Vec2> points(n);
-  for (Vec2& p : points)
-  {
-    p = { ux(rng), uy(rng) };
-  }
-  return points;
-}
 
 Vec2 unit(Vec2 v)
 {

@@ -397,7 +397,9 @@ TEST(Grid48Test, default_parameters_give_a_valid_grid_on_every_model)
     EXPECT_LE(p.maxLevel, 20) << name;
     EXPECT_EQ(p.localMaxLevel, p.maxLevel + 4) << name;
     EXPECT_DOUBLE_EQ(p.tolerance, 1e-3 * grid.hypotenuseLength(p.maxLevel)) << name;
-    EXPECT_LE(grid.maxLeafLevel(), p.localMaxLevel) << name;
+    EXPECT_EQ(p.junctionMaxLevel, p.localMaxLevel + 8) << name;
+    // Beyond localMaxLevel only to separate close junctions.
+    EXPECT_LE(grid.maxLeafLevel(), p.junctionMaxLevel) << name;
     EXPECT_GT(grid.numberOfLeaves(), 1000u) << name;
     EXPECT_LT(grid.numberOfLeaves(), 200000u) << name;
     const TriangleMesh mesh = grid.extract();
@@ -431,6 +433,7 @@ TEST(Grid48Test, global_criterion_leaves_no_splittable_leaf_below_max_level)
     Grid48Params p = smallParams();
     p.localRefinement = false;
     p.thinRegionRefinement = false;
+    p.junctionRefinement = false;
     for (const double tolerance : { 0.0, 0.02 })
     {
       p.tolerance = tolerance * m.model.size();
@@ -667,6 +670,110 @@ TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curv
   expectValidMesh(with, with.extract(), "lens");
 }
 
+TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
+{
+  // gulf_section has junction pairs 0.7 m, 3.7 m and 10.9 m apart, among 60-180 m edges at
+  // MaxLevel 10: each pair shares a triangle of localMaxLevel without the junction rule.
+  const Loaded& m = load("gulf_section.vtp");
+  std::vector<Vec2> junctions;
+  for (int id : m.model.junctions)
+  {
+    junctions.push_back(m.model.nodes[id]);
+  }
+  std::sort(
+    junctions.begin(), junctions.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x; });
+  auto crowdedLeaves = [&](const Grid48& grid, int belowLevel)
+  {
+    int crowded = 0;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t) || grid.nodeLevel(t) >= belowLevel)
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      if (verticesIn(junctions,
+            grid.vertexPosition(v[0]),
+            grid.vertexPosition(v[1]),
+            grid.vertexPosition(v[2])) >= 2)
+      {
+        ++crowded;
+      }
+    }
+    return crowded;
+  };
+  Grid48Params p;
+  p.maxLevel = 10;
+  p.junctionRefinement = false;
+  const Grid48 without = Grid48::build(m.model, *m.field, p);
+  EXPECT_EQ(without.params().junctionMaxLevel, 22); // localMaxLevel 14 + 8
+  EXPECT_GT(crowdedLeaves(without, Grid48::MaxSupportedLevel + 1), 0);
+  p.junctionRefinement = true;
+  const Grid48 with = Grid48::build(m.model, *m.field, p);
+  const int cap = with.params().junctionMaxLevel;
+  EXPECT_EQ(crowdedLeaves(with, cap), 0);
+  EXPECT_GT(with.maxLeafLevel(), with.params().localMaxLevel);
+  EXPECT_LE(with.maxLeafLevel(), cap);
+  // Cheap: a few hundred more leaves, not a refinement of the whole boundary.
+  EXPECT_GT(with.numberOfLeaves(), without.numberOfLeaves());
+  EXPECT_LT(with.numberOfLeaves(), without.numberOfLeaves() + 1000);
+  expectValidMesh(with, with.extract(), "junctions");
+  // Two junctions 1e-4 apart in a unit square, with and without the local rule: separated
+  // up to the cap, never beyond it.
+  // Four regions whose borders meet at two triple junctions j0 and j1 1e-4 apart.
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::Loops;
+  auto addLoop = [&raw](const std::vector<Vec2>& pts, int region)
+  {
+    const std::int64_t base = static_cast<std::int64_t>(raw.points.size());
+    for (std::size_t i = 0; i < pts.size(); ++i)
+    {
+      raw.points.push_back(pts[i]);
+      raw.connectivity.push_back(base + static_cast<std::int64_t>(i));
+    }
+    raw.connectivity.push_back(base);
+    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
+    raw.regionId.push_back(region);
+  };
+  raw.offsets.push_back(0);
+  const Vec2 j0{ 0.3, 0.5 }, j1{ 0.3001, 0.5 };
+  addLoop({ { 0, 0 }, { 0.3, 0 }, j0, { 0, 0.5 } }, 1);
+  addLoop({ { 0.3, 0 }, { 1, 0 }, { 1, 0.5 }, j1, j0 }, 2);
+  addLoop({ { 0, 0.5 }, j0, j1, { 0.3001, 1 }, { 0, 1 } }, 0);
+  addLoop({ j1, { 1, 0.5 }, { 1, 1 }, { 0.3001, 1 } }, 3);
+  const strata::Model small = strata::buildModel(raw);
+  const strata::DistanceField field(small);
+  std::vector<Vec2> pair; // local coordinates
+  for (int id : small.junctions)
+  {
+    pair.push_back(small.nodes[id]);
+  }
+  ASSERT_EQ(pair.size(), 6u); // j0, j1 and where the borders meet the square
+  std::sort(pair.begin(), pair.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x; });
+  for (bool local : { true, false })
+  {
+    Grid48Params q;
+    q.maxLevel = 6;
+    q.localMaxLevel = 10;
+    q.localRefinement = local;
+    q.junctionMaxLevel = 40;
+    const Grid48 grid = Grid48::build(small, field, q);
+    int crowded = 0;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      const auto& v = grid.nodeVertices(t);
+      crowded += grid.isLeaf(t) &&
+        verticesIn(
+          pair, grid.vertexPosition(v[0]), grid.vertexPosition(v[1]), grid.vertexPosition(v[2])) >=
+          2;
+    }
+    EXPECT_EQ(crowded, 0) << "local " << local;
+    EXPECT_GT(grid.maxLeafLevel(), 20) << "local " << local;
+    EXPECT_LE(grid.maxLeafLevel(), 40) << "local " << local;
+    expectValidMesh(grid, grid.extract(), "junction pair");
+  }
+}
+
 TEST(Grid48Test, both_forms_of_a_model_refine_alike)
 {
   for (const auto& [shared, loops] :
@@ -807,6 +914,18 @@ TEST(Grid48Test, parameters_out_of_range_throw)
   p.margin = -0.1;
   EXPECT_THROW(build(p), strata::ParameterError);
   p.margin = 2.0;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p = {};
+  p.maxLevel = 12;
+  p.localMaxLevel = 14;
+  p.junctionMaxLevel = 13;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.junctionMaxLevel = 61;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p = {};
+  p.featurePointAngle = -1.0;
+  EXPECT_THROW(build(p), strata::ParameterError);
+  p.featurePointAngle = 181.0;
   EXPECT_THROW(build(p), strata::ParameterError);
   EXPECT_THROW(Grid48(Box2{ { 0, 0 }, { 1, 1 } }).extract(-2), strata::ParameterError);
   // The model must fit in the grid's domain to resume.

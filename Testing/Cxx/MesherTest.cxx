@@ -30,8 +30,8 @@ struct Case
 const Case kCases[] = {
   { "lake_superior.vtp", 9, 11.5, 0.02 }, // ~1 950 triangles (paper: 1 906, 11.5 deg)
   { "salt_dome.vtp", 10, 10.4, 0.02 },    // ~6 000 triangles (paper: 6 183, 10.4 deg)
-  { "gulf_section.vtp", 10, 1.5, 0.04 },  // ~9 800 triangles (paper: 11 015, 5.25 deg);
-                                          // junction pairs 0.7 m and 3.7 m apart bound it
+  { "gulf_section.vtp", 10, 5.25, 0.04 }, // ~10 000 triangles (paper: 11 015, 5.25 deg);
+                                          // 12.7 deg with Grid48's junction refinement
   { "salt_dome_loops.vtp", 9, 0, 0.02 },
   // Allowance: in some configurations a vertex fanned to several curve vertices on the
   // straight bottom border, next to the fault junction pairs, cannot be placed on a curve

@@ -1,6 +1,8 @@
 // vtkPhysicalCompressionTriangulator in real VTK pipelines: reader -> triangulator -> checks.
 #include "vtkPhysicalCompressionTriangulator.h"
 
+#include "AdapterTestUtilities.h"
+
 #include <vtkCallbackCommand.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
@@ -22,58 +24,18 @@
 #include <set>
 #include <string>
 
-namespace
-{
-
-vtkSmartPointer<vtkXMLPolyDataReader> Reader(const std::string& name)
-{
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName((std::string(STRATAMESH_DATA_DIR) + "/" + name).c_str());
-  return reader;
-}
-
-struct Messages
-{
-  std::string errors, warnings;
-};
-
-vtkSmartPointer<vtkCallbackCommand> Watch(vtkObject* object, Messages& messages)
-{
-  auto log = vtkSmartPointer<vtkCallbackCommand>::New();
-  log->SetClientData(&messages);
-  log->SetCallback([](vtkObject*, unsigned long event, void* data, void* text)
-    {
-      auto* m = static_cast<Messages*>(data);
-      (event == vtkCommand::ErrorEvent ? m->errors : m->warnings) += static_cast<const char*>(text);
-    });
-  object->AddObserver(vtkCommand::ErrorEvent, log);
-  object->AddObserver(vtkCommand::WarningEvent, log);
-  return log;
-}
-
-double SignedArea(vtkUnstructuredGrid* grid, vtkIdType cell)
-{
-  vtkIdType npts = 0;
-  const vtkIdType* ids = nullptr;
-  grid->GetCellPoints(cell, npts, ids);
-  double a[3], b[3], c[3];
-  grid->GetPoint(ids[0], a);
-  grid->GetPoint(ids[1], b);
-  grid->GetPoint(ids[2], c);
-  return 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-}
-
-} // namespace
+using strata_test::Reader;
+using strata_test::SignedArea;
+using strata_test::Watch;
 
 TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clockwise_triangles)
 {
   auto reader = Reader("pinch_out.vtp");
   vtkNew<vtkPhysicalCompressionTriangulator> mesher;
   mesher->SetInputConnection(reader->GetOutputPort());
-  Messages messages;
-  auto log = Watch(mesher, messages);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
   vtkUnstructuredGrid* mesh = mesher->GetOutput();
   ASSERT_NE(mesh, nullptr);
   ASSERT_GT(mesh->GetNumberOfCells(), 100);
@@ -149,10 +111,9 @@ TEST(PhysicalCompressionTriangulatorTest, boundary_output_is_a_shared_curves_mod
   vtkNew<vtkPhysicalCompressionTriangulator> again;
   again->SetInputData(boundary);
   again->SetMaxLevel(11);
-  Messages messages;
-  auto log = Watch(again, messages);
+  auto log = Watch(again);
   again->Update();
-  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
   EXPECT_GT(again->GetOutput()->GetNumberOfCells(), 0);
 }
 
@@ -168,10 +129,9 @@ TEST(PhysicalCompressionTriangulatorTest, bad_inputs_fail_with_an_error_naming_t
     auto reader = Reader(file);
     vtkNew<vtkPhysicalCompressionTriangulator> mesher;
     mesher->SetInputConnection(reader->GetOutputPort());
-    Messages messages;
-    auto log = Watch(mesher, messages);
+    auto log = Watch(mesher);
     mesher->Update();
-    EXPECT_NE(messages.errors.find(needle), std::string::npos) << file << ": " << messages.errors;
+    EXPECT_NE(log->Errors.find(needle), std::string::npos) << file << ": " << log->Errors;
     EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0) << file;
   }
 }
@@ -181,11 +141,10 @@ TEST(PhysicalCompressionTriangulatorTest, empty_model_gives_empty_outputs_and_a_
   auto reader = Reader("bad_inputs/empty.vtp");
   vtkNew<vtkPhysicalCompressionTriangulator> mesher;
   mesher->SetInputConnection(reader->GetOutputPort());
-  Messages messages;
-  auto log = Watch(mesher, messages);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_TRUE(messages.errors.empty()) << messages.errors;
-  EXPECT_FALSE(messages.warnings.empty());
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
+  EXPECT_FALSE(log->Warnings.empty());
   EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
   EXPECT_EQ(mesher->GetBoundaryOutput()->GetNumberOfCells(), 0);
 }
@@ -204,10 +163,9 @@ TEST(PhysicalCompressionTriangulatorTest, abort_stops_the_request_early)
       }
     });
   mesher->AddObserver(vtkCommand::ProgressEvent, abort);
-  Messages messages;
-  auto log = Watch(mesher, messages);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_NE(messages.errors.find("aborted"), std::string::npos) << messages.errors;
+  EXPECT_NE(log->Errors.find("aborted"), std::string::npos) << log->Errors;
   EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
 }
 

@@ -2,6 +2,8 @@
 #include "vtkPolylineSignedDistance.h"
 #include "vtkPolylineSignedDistanceFilter.h"
 
+#include "AdapterTestUtilities.h"
+
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
 #include <vtkExecutive.h>
@@ -21,43 +23,8 @@
 #include <cmath>
 #include <string>
 
-namespace
-{
-
-std::string DataFile(const std::string& name)
-{
-  return std::string(STRATAMESH_DATA_DIR) + "/" + name;
-}
-
-vtkSmartPointer<vtkXMLPolyDataReader> Reader(const std::string& name)
-{
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName(DataFile(name).c_str());
-  return reader;
-}
-
-/// Records the error and warning messages an algorithm emits.
-class MessageLog : public vtkCommand
-{
-public:
-  static MessageLog* New() { return new MessageLog; }
-  void Execute(vtkObject*, unsigned long event, void* data) override
-  {
-    (event == vtkCommand::ErrorEvent ? this->Errors : this->Warnings) +=
-      static_cast<const char*>(data);
-  }
-  std::string Errors, Warnings;
-};
-
-vtkSmartPointer<MessageLog> Watch(vtkObject* object)
-{
-  auto log = vtkSmartPointer<MessageLog>::New();
-  object->AddObserver(vtkCommand::ErrorEvent, log);
-  object->AddObserver(vtkCommand::WarningEvent, log);
-  return log;
-}
-
-} // namespace
+using strata_test::Reader;
+using strata_test::Watch;
 
 TEST(PolylineSignedDistanceFilterTest, samples_an_image_over_the_padded_model_bounds)
 {

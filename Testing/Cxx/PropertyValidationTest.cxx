@@ -7,7 +7,8 @@
 #include "vtkPolylineSignedDistance.h"
 #include "vtkPolylineSignedDistanceFilter.h"
 
-#include <vtkCallbackCommand.h>
+#include "AdapterTestUtilities.h"
+
 #include <vtkCommand.h>
 #include <vtkDataSet.h>
 #include <vtkNew.h>
@@ -27,31 +28,8 @@
 namespace
 {
 
-vtkSmartPointer<vtkXMLPolyDataReader> Reader(const std::string& name)
-{
-  auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
-  reader->SetFileName((std::string(STRATAMESH_DATA_DIR) + "/" + name).c_str());
-  return reader;
-}
-
-// Collects the errors an object reports (observed errors are not printed).
-struct ErrorLog
-{
-  std::string Errors;
-  vtkNew<vtkCallbackCommand> Command;
-
-  explicit ErrorLog(vtkObject* object)
-  {
-    this->Command->SetClientData(&this->Errors);
-    this->Command->SetCallback([](vtkObject*, unsigned long, void* data, void* text)
-      { *static_cast<std::string*>(data) += static_cast<const char*>(text); });
-    object->AddObserver(vtkCommand::ErrorEvent, this->Command);
-  }
-  bool Has(const std::string& message) const
-  {
-    return this->Errors.find(message) != std::string::npos;
-  }
-};
+using strata_test::Reader;
+using strata_test::Watch;
 
 using Setter = std::function<void(vtkPhysicalCompressionTriangulator*)>;
 
@@ -144,9 +122,9 @@ TEST(PropertyValidationTest, triangulator_names_each_property_out_of_range_and_f
     vtkNew<vtkPhysicalCompressionTriangulator> mesher;
     mesher->SetInputConnection(reader->GetOutputPort());
     bad.Set(mesher);
-    ErrorLog log(mesher);
+    auto log = Watch(mesher);
     mesher->Update();
-    EXPECT_TRUE(log.Has(bad.Message)) << bad.What << ": " << log.Errors;
+    EXPECT_TRUE(log->Has(bad.Message)) << bad.What << ": " << log->Errors;
     EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0) << bad.What;
     EXPECT_EQ(mesher->GetBoundaryOutput()->GetNumberOfCells(), 0) << bad.What;
   }
@@ -160,11 +138,11 @@ TEST(PropertyValidationTest, every_bad_property_is_reported_at_once)
   mesher->SetMaxLevel(99);
   mesher->SetDamping(-1.0);
   mesher->SetFeatureAngle(-3.0);
-  ErrorLog log(mesher);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_TRUE(log.Has("MaxLevel = 99 is out of range [-1, 60]")) << log.Errors;
-  EXPECT_TRUE(log.Has("Damping = -1 is out of range [0, 1000]")) << log.Errors;
-  EXPECT_TRUE(log.Has("FeatureAngle = -3 is out of range [0, 180]")) << log.Errors;
+  EXPECT_TRUE(log->Has("MaxLevel = 99 is out of range [-1, 60]")) << log->Errors;
+  EXPECT_TRUE(log->Has("Damping = -1 is out of range [0, 1000]")) << log->Errors;
+  EXPECT_TRUE(log->Has("FeatureAngle = -3 is out of range [0, 180]")) << log->Errors;
 }
 
 TEST(PropertyValidationTest, a_failed_update_empties_the_outputs_and_a_fixed_value_recovers)
@@ -178,17 +156,17 @@ TEST(PropertyValidationTest, a_failed_update_empties_the_outputs_and_a_fixed_val
 
   mesher->SetMaxLevel(99);
   {
-    ErrorLog log(mesher);
+    auto log = Watch(mesher);
     mesher->Update();
-    EXPECT_TRUE(log.Has("MaxLevel = 99")) << log.Errors;
+    EXPECT_TRUE(log->Has("MaxLevel = 99")) << log->Errors;
   }
   EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
   EXPECT_EQ(mesher->GetBoundaryOutput()->GetNumberOfCells(), 0);
 
   mesher->SetMaxLevel(10);
-  ErrorLog log(mesher);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_TRUE(log.Errors.empty()) << log.Errors;
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
   EXPECT_GT(mesher->GetOutput()->GetNumberOfCells(), 0);
 }
 
@@ -208,10 +186,10 @@ TEST(PropertyValidationTest, values_on_the_range_bounds_are_accepted)
   mesher->SetPushCriterion(2);
   mesher->SetPushVelocity(10.0);
   mesher->SetFeatureAngle(180.0);
-  ErrorLog log(mesher);
+  auto log = Watch(mesher);
   mesher->Update();
-  EXPECT_FALSE(log.Has("out of range")) << log.Errors;
-  EXPECT_FALSE(log.Has("below MaxLevel")) << log.Errors;
+  EXPECT_FALSE(log->Has("out of range")) << log->Errors;
+  EXPECT_FALSE(log->Has("below MaxLevel")) << log->Errors;
 }
 
 TEST(PropertyValidationTest, grid_filters_name_their_properties_out_of_range)
@@ -222,10 +200,10 @@ TEST(PropertyValidationTest, grid_filters_name_their_properties_out_of_range)
     grid->SetInputConnection(reader->GetOutputPort());
     grid->SetOutputLevel(61);
     grid->SetMaxLevel(-3);
-    ErrorLog log(grid);
+    auto log = Watch(grid);
     grid->Update();
-    EXPECT_TRUE(log.Has("OutputLevel = 61 is out of range [-1, 60]")) << log.Errors;
-    EXPECT_TRUE(log.Has("MaxLevel = -3 is out of range [-1, 60]")) << log.Errors;
+    EXPECT_TRUE(log->Has("OutputLevel = 61 is out of range [-1, 60]")) << log->Errors;
+    EXPECT_TRUE(log->Has("MaxLevel = -3 is out of range [-1, 60]")) << log->Errors;
     EXPECT_EQ(grid->GetOutput()->GetNumberOfCells(), 0);
   }
   {
@@ -233,9 +211,9 @@ TEST(PropertyValidationTest, grid_filters_name_their_properties_out_of_range)
     grid->SetInputConnection(reader->GetOutputPort());
     grid->SetMaxLevel(8);
     grid->SetBoundaryTolerance(-1e-3);
-    ErrorLog log(grid);
+    auto log = Watch(grid);
     grid->Update();
-    EXPECT_TRUE(log.Has("BoundaryTolerance = -0.001 is out of range [0, inf)")) << log.Errors;
+    EXPECT_TRUE(log->Has("BoundaryTolerance = -0.001 is out of range [0, inf)")) << log->Errors;
     EXPECT_EQ(grid->GetOutput()->GetNumberOfCells(), 0);
     EXPECT_EQ(grid->GetEdgesOutput()->GetNumberOfCells(), 0);
   }
@@ -248,11 +226,11 @@ TEST(PropertyValidationTest, signed_distance_filter_names_form_and_sample_dimens
   filter->SetSourceConnection(reader->GetOutputPort());
   filter->SetForm(5);
   filter->SetSampleDimensions(64, 20000);
-  ErrorLog log(filter);
+  auto log = Watch(filter);
   filter->Update();
-  EXPECT_TRUE(log.Has("Form = 5 is out of range [0, 2]")) << log.Errors;
-  EXPECT_TRUE(log.Has("SampleDimensions[1] = 20000 is out of range [2, 16384]")) << log.Errors;
-  EXPECT_FALSE(log.Has("SampleDimensions[0]")) << log.Errors;
+  EXPECT_TRUE(log->Has("Form = 5 is out of range [0, 2]")) << log->Errors;
+  EXPECT_TRUE(log->Has("SampleDimensions[1] = 20000 is out of range [2, 16384]")) << log->Errors;
+  EXPECT_FALSE(log->Has("SampleDimensions[0]")) << log->Errors;
 }
 
 TEST(PropertyValidationTest, implicit_function_names_region_and_form_and_gives_nan)
@@ -264,16 +242,16 @@ TEST(PropertyValidationTest, implicit_function_names_region_and_form_and_gives_n
   double x[3] = { 0.0, 0.0, 0.0 };
   {
     function->SetRegion(-2);
-    ErrorLog log(function);
+    auto log = Watch(function);
     EXPECT_TRUE(std::isnan(function->EvaluateFunction(x)));
-    EXPECT_TRUE(log.Has("Region = -2 is out of range [-1, ")) << log.Errors;
+    EXPECT_TRUE(log->Has("Region = -2 is out of range [-1, ")) << log->Errors;
   }
   {
     function->SetRegion(-1);
     function->SetForm(4);
-    ErrorLog log(function);
+    auto log = Watch(function);
     EXPECT_FALSE(function->UpdateModel());
-    EXPECT_TRUE(log.Has("Form = 4 is out of range [0, 2]")) << log.Errors;
+    EXPECT_TRUE(log->Has("Form = 4 is out of range [0, 2]")) << log->Errors;
   }
   function->SetForm(0);
   EXPECT_TRUE(function->UpdateModel());

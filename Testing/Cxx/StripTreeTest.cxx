@@ -1,6 +1,7 @@
 // Tests of the strip tree: exact nearest-segment queries, compared with a brute-force scan.
 #include "StripTree.h"
 
+#include "CoreTestUtilities.h"
 #include "Errors.h"
 #include "VtpAscii.h"
 
@@ -24,21 +25,8 @@ using strata::StripTree;
 using strata::StripTreeScratch;
 using strata::Vec2;
 
-// The models of Data/ used by the data-driven tests.
-const std::vector<std::string> kModels = { "lake_superior.vtp",
-  "lake_superior_full.vtp",
-  "nested_holes.vtp",
-  "touching_loops.vtp",
-  "gulf_section.vtp",
-  "gulf_section_loops.vtp",
-  "salt_dome.vtp",
-  "salt_dome_loops.vtp",
-  "countries_westeurope.vtp",
-  "countries_westeurope_loops.vtp",
-  "geology_marmousi.vtp",
-  "pinch_out.vtp",
-  "thin_layer.vtp",
-  "guitar.vtp" };
+using strata_test::kModels;
+using strata_test::randomPoints;
 
 struct Segments
 {
@@ -78,12 +66,7 @@ Segments readSegments(const std::string& name)
 // The plain reference: the minimum of pointSegmentDistance2 over all segments.
 double plainBruteForce2(const Segments& s, Vec2 p)
 {
-  double best = HUGE_VAL;
-  for (std::size_t i = 0; i < s.a.size(); ++i)
-  {
-    best = std::min(best, strata::pointSegmentDistance2(p, s.a[i], s.b[i]));
-  }
-  return best;
+  return strata_test::bruteForceDistance2(s.a, s.b, p);
 }
 
 // The same minimum, faster: segments are grouped in blocks of 16 consecutive ones, and a block
@@ -267,22 +250,6 @@ std::size_t compareWithBruteForce(const Segments& s,
     }
   }
   return bad;
-}
-
-std::vector<Vec2> randomPoints(const strata::Box2& box,
-  double margin,
-  std::size_t n,
-  std::mt19937_64& rng)
-{
-  const double mx = margin * std::max(box.width(), box.height());
-  std::uniform_real_distribution<double> ux(box.min.x - mx, box.max.x + mx);
-  std::uniform_real_distribution<double> uy(box.min.y - mx, box.max.y + mx);
-  std::vector<Vec2> points(n);
-  for (Vec2& p : points)
-  {
-    p = { ux(rng), uy(rng) };
-  }
-  return points;
 }
 
 } // namespace
