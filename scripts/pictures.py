@@ -15,7 +15,7 @@ import sys
 
 from paraview.simple import (LoadPlugin, XMLPolyDataReader, Show, Hide, CreateView, ColorBy,
                              GetColorTransferFunction, SaveScreenshot, ResetCamera, Delete,
-                             OutputPort, Histogram, Render)
+                             OutputPort, Histogram, Render, GetScalarBar)
 from paraview import servermanager
 
 parser = argparse.ArgumentParser(description=__doc__)
@@ -62,7 +62,18 @@ def categorical(display, array, ids, association="CELLS", legend=True, view=None
     display.SetScalarBarVisibility(view, legend)
 
 
+def dark_legends(view):
+    """Legends readable on the white background."""
+    for rep in view.Representations:
+        lut = getattr(rep, "LookupTable", None)
+        if lut is not None and getattr(rep, "Visibility", 0):
+            bar = GetScalarBar(lut, view)
+            bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
+
+
 def save(view, name):
+    if view.GetXMLName() == "RenderView":
+        dark_legends(view)
     Render(view)
     SaveScreenshot(os.path.join(args.out, name), view, ImageResolution=SIZE)
     print("wrote", os.path.join(args.out, name))
