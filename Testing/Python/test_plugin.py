@@ -37,6 +37,12 @@ class PluginTest(unittest.TestCase):
             self.assertIsNotNone(hints, name)
             menu = hints.FindNestedElementByName("ShowInMenu")
             self.assertEqual(menu.GetAttribute("category"), "StrataMesh", name)
+            self.assertEqual(menu.GetAttribute("icon"), ":/StrataMesh/Icons/stratamesh.svg", name)
+
+    def test_menu_icon_is_compiled_into_the_plugin(self):
+        # The Qt resource (Plugin/StrataMesh.qrc) is embedded in the plugin's library.
+        with open(st.PLUGIN, "rb") as f:
+            self.assertIn(b"stratamesh.svg", f.read())
 
     def test_region_array_properties_offer_the_inputs_cell_arrays(self):
         from paraview import simple
