@@ -62,6 +62,8 @@ std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyDat
       params.maxLevel = this->MaxLevel;
       params.localMaxLevel = this->LocalMaxLevel;
       params.tolerance = this->Tolerance;
+      params.maxEdgeLength = this->MaximumEdgeLength;
+      params.minEdgeLength = this->MinimumEdgeLength;
       this->Session->refine(params, strata::ProgressReporter(this->ProgressCallback(), 0.0, 0.8));
     }
   }

@@ -134,6 +134,8 @@ int vtkPhysicalCompressionTriangulator::RequestData(
   params.grid.maxLevel = this->MaxLevel;
   params.grid.localMaxLevel = this->LocalMaxLevel;
   params.grid.tolerance = this->Tolerance;
+  params.grid.maxEdgeLength = this->MaximumEdgeLength;
+  params.grid.minEdgeLength = this->MinimumEdgeLength;
   strata::CompressionParams& c = params.compression;
   c.springConfiguration = static_cast<strata::SpringConfiguration>(this->SpringConfiguration);
   c.springStiffness = this->SpringStiffness;

@@ -48,6 +48,19 @@ bool vtkStrataMeshAlgorithm::CheckProperties()
     valid = false;
   }
   valid &= vtkStrataMeshRange::Check(this, "Tolerance", this->Tolerance, 0.0, inf);
+  const bool maxLength =
+    vtkStrataMeshRange::Check(this, "MaximumEdgeLength", this->MaximumEdgeLength, 0.0, inf);
+  const bool minLength =
+    vtkStrataMeshRange::Check(this, "MinimumEdgeLength", this->MinimumEdgeLength, 0.0, inf);
+  valid &= maxLength && minLength;
+  if (maxLength && minLength && this->MaximumEdgeLength > 0.0 &&
+    this->MinimumEdgeLength > this->MaximumEdgeLength)
+  {
+    vtkErrorMacro(<< "MinimumEdgeLength = " << this->MinimumEdgeLength
+                  << " is above MaximumEdgeLength = " << this->MaximumEdgeLength
+                  << ": it must be 0 (no cap) or in [0, MaximumEdgeLength]");
+    valid = false;
+  }
   return valid;
 }
 
@@ -63,4 +76,6 @@ void vtkStrataMeshAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxLevel: " << this->MaxLevel << "\n";
   os << indent << "LocalMaxLevel: " << this->LocalMaxLevel << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "MaximumEdgeLength: " << this->MaximumEdgeLength << "\n";
+  os << indent << "MinimumEdgeLength: " << this->MinimumEdgeLength << "\n";
 }

@@ -83,6 +83,33 @@ public:
   vtkGetMacro(Tolerance, double);
   ///@}
 
+  ///@{
+  /**
+   * Sizes in model units, which choose the levels (0, the default: automatic levels).
+   * A level's triangles have their longest edge, the hypotenuse, of D / 2^(level / 2), with D
+   * the side of the grid's square (the model's larger side plus 5% on every side).
+   *
+   * MaximumEdgeLength > 0: every triangle of the grid is refined at least to the coarsest
+   * level L whose hypotenuse is <= MaximumEdgeLength, so no grid edge is longer than it
+   * anywhere; MaxLevel becomes L when automatic (-1) and the finer of MaxLevel and L when set,
+   * and the automatic LocalMaxLevel follows (L + 4). Range 0 or [D / 2048, inf) (at most
+   * 4 * 2^22 triangles of uniform refinement). The mesh of the triangulator moves vertices
+   * onto the curves, which stretches some edges: its longest edges stay below 2
+   * MaximumEdgeLength (at most 1.6 times measured on the bundled models).
+   *
+   * MinimumEdgeLength > 0 caps the refinement: MaxLevel, LocalMaxLevel and the junction
+   * refinement, automatic or set, stop at the finest level whose hypotenuse is >=
+   * MinimumEdgeLength (the coarser wins), so no grid triangle's hypotenuse is shorter than it
+   * (when both lengths are set and within a factor sqrt(2) of each other, MaximumEdgeLength
+   * wins, and hypotenuses stay above MinimumEdgeLength / sqrt(2)). Range [0, inf), not above
+   * MaximumEdgeLength when both are > 0.
+   */
+  vtkSetMacro(MaximumEdgeLength, double);
+  vtkGetMacro(MaximumEdgeLength, double);
+  vtkSetMacro(MinimumEdgeLength, double);
+  vtkGetMacro(MinimumEdgeLength, double);
+  ///@}
+
 protected:
   vtkStrataMeshAlgorithm();
   ~vtkStrataMeshAlgorithm() override;
@@ -102,6 +129,8 @@ protected:
   int MaxLevel = -1;
   int LocalMaxLevel = -1;
   double Tolerance = 0.0;
+  double MaximumEdgeLength = 0.0;
+  double MinimumEdgeLength = 0.0;
 
 private:
   vtkStrataMeshAlgorithm(const vtkStrataMeshAlgorithm&) = delete;

@@ -57,7 +57,18 @@
 //      the feature points whose nearest other feature point is within the hypotenuse of
 //      localMaxLevel are kept (a handful), sorted by x; T is tested against those within its
 //      hypotenuse of each other, and only when (b) did not already decide (below
-//      localMaxLevel (b) splits any triangle holding two model vertices).
+//      localMaxLevel (b) splits any triangle holding two model vertices). A pair that is the
+//      end of a thin strip is left alone: when, at max(hypotenuse(localMaxLevel), 8 d) from
+//      the pair's midpoint on one side (d the pair's distance), a cross-section 3 d long
+//      parallel to the pair still meets two curves, the strip goes on thinner than its
+//      triangles and separating its ends only resolves it there (thin_layer.vtp: the
+//      1-unit layer ending on the border; refining its ends kept the compression moving 90
+//      steps longer, and the rails then left a 5.6-degree sliver in the aliased middle).
+//  (e) sizes in model units (l < minLevel): every triangle, so that with minLevel the level
+//      of maxEdgeLength no grid edge is longer than it. minEdgeLength instead lowers
+//      maxLevel, localMaxLevel and junctionMaxLevel (Grid48Params, resolveParams): no
+//      criterion splits beyond its level, and conforming splits only ever split coarser
+//      triangles, so no leaf is finer.
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
 // shared by two loops in the Loops form is counted once) chained through the nodes where
 // exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
@@ -687,6 +698,29 @@ bool BoundaryIndex::nearSegment(Vec2 a, Vec2 b, double tolerance)
     [&](int s) { return segmentsWithin(a, b, this->A[s], this->B[s], tolerance); });
 }
 
+bool BoundaryIndex::twoCurvesMeet(Vec2 a, Vec2 b)
+{
+  int first = -1;
+  return this->anySegment(std::min(a.x, b.x),
+    std::min(a.y, b.y),
+    std::max(a.x, b.x),
+    std::max(a.y, b.y),
+    [&](int s)
+    {
+      if (!segmentsWithin(a, b, this->A[s], this->B[s], 0.0))
+      {
+        return false;
+      }
+      const int curve = this->ChainOf[s];
+      if (first < 0)
+      {
+        first = curve;
+        return false;
+      }
+      return curve != first;
+    });
+}
+
 // The refinement loop of refine(): criteria, flags and progress.
 class Grid48Refiner
 {
@@ -703,7 +737,7 @@ public:
     this->IndexReach = 4.0 * this->Index->cellSize();
     this->Local = this->P.localMaxLevel > this->P.maxLevel &&
       (this->P.localRefinement || this->P.thinRegionRefinement);
-    this->TopLevel = std::max(this->P.maxLevel, this->P.localMaxLevel);
+    this->TopLevel = std::max({ this->P.maxLevel, this->P.localMaxLevel, this->P.minLevel });
     if (this->P.junctionRefinement && this->P.junctionMaxLevel > 0)
     {
       this->TopLevel = std::max(this->TopLevel, this->P.junctionMaxLevel);
@@ -721,6 +755,10 @@ public:
     if (level >= this->TopLevel)
     {
       return false;
+    }
+    if (level < this->P.minLevel)
+    {
+      return true; // (e) uniform lower bound (maxEdgeLength)
     }
     const std::array<int, 3>& v = this->G.Vert[t];
     if (level < this->P.maxLevel && !(flags & kGlobalNo))
@@ -914,22 +952,57 @@ private:
     for (std::size_t i = 0; i < pts.size(); ++i)
     {
       double best = HUGE_VAL;
+      std::size_t nearest = i;
+      const auto closer = [&](std::size_t j)
+      {
+        const double d = norm(pts[j] - pts[i]);
+        if (d < best)
+        {
+          best = d;
+          nearest = j;
+        }
+      };
       for (std::size_t j = i + 1; j < pts.size() && pts[j].x - pts[i].x < std::min(best, reach);
            ++j)
       {
-        best = std::min(best, norm(pts[j] - pts[i]));
+        closer(j);
       }
       for (std::size_t j = i; j-- > 0 && pts[i].x - pts[j].x < std::min(best, reach);)
       {
-        best = std::min(best, norm(pts[j] - pts[i]));
+        closer(j);
       }
-      if (best <= reach)
+      if (best <= reach && !this->thinStripEnd(pts[i], pts[nearest], best))
       {
         this->FeatureX.push_back(pts[i].x);
         this->FeatureY.push_back(pts[i].y);
         this->FeatureNearest.push_back(best);
       }
     }
+  }
+
+  // Whether feature points p and q, d apart, end a thin strip (see (d) at the top): on one
+  // side of pq, at max(hypotenuse(localMaxLevel), 8 d) from its midpoint, a cross-section 3 d
+  // long parallel to pq still meets two curves. The fault throws of gulf_section are no such
+  // ends: their horizons diverge within that distance.
+  bool thinStripEnd(Vec2 p, Vec2 q, double d)
+  {
+    if (!(d > 0.0))
+    {
+      return false;
+    }
+    const Vec2 t = (1.0 / d) * (q - p);
+    const Vec2 n{ -t.y, t.x };
+    const Vec2 m = 0.5 * (p + q);
+    const double reach = std::max(this->G.hypotenuseLength(this->P.localMaxLevel), 8.0 * d);
+    for (const double side : { 1.0, -1.0 })
+    {
+      const Vec2 x = m + (reach * side) * n;
+      if (this->Index->twoCurvesMeet(x - (1.5 * d) * t, x + (1.5 * d) * t))
+      {
+        return true;
+      }
+    }
+    return false;
   }
 
   // Whether the closed triangle v holds two or more of the feature points kept.
@@ -1024,7 +1097,61 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
     throw ParameterError("Grid48: MaxLevel " + std::to_string(p.maxLevel) +
       " is not -1 (automatic) or in [0, " + std::to_string(MaxSupportedLevel) + "]");
   }
-  if (p.maxLevel == -1)
+  if (!(p.maxEdgeLength >= 0.0) || !std::isfinite(p.maxEdgeLength))
+  {
+    throw ParameterError("Grid48: MaximumEdgeLength " + std::to_string(p.maxEdgeLength) +
+      " is not a finite value >= 0 (0: no bound)");
+  }
+  if (!(p.minEdgeLength >= 0.0) || !std::isfinite(p.minEdgeLength))
+  {
+    throw ParameterError("Grid48: MinimumEdgeLength " + std::to_string(p.minEdgeLength) +
+      " is not a finite value >= 0 (0: no cap)");
+  }
+  if (p.maxEdgeLength > 0.0 && p.minEdgeLength > p.maxEdgeLength)
+  {
+    throw ParameterError("Grid48: MinimumEdgeLength " + std::to_string(p.minEdgeLength) +
+      " is above MaximumEdgeLength " + std::to_string(p.maxEdgeLength));
+  }
+  // Hypotenuse of a level: side / 2^(level / 2), exact powers of two times 1 or sqrt(1/2).
+  const auto hypotenuse = [side](int level)
+  {
+    const double s = std::ldexp(side, -(level / 2));
+    return (level % 2) ? s * 0.70710678118654752440 : s;
+  };
+  const double slack = 1e-12; // relative: a length equal to a level's hypotenuse selects it
+  // Level of maxEdgeLength: the coarsest whose hypotenuse is <= it (-1: none asked).
+  int edgeLevel = -1;
+  if (p.maxEdgeLength > 0.0)
+  {
+    edgeLevel = 0;
+    while (edgeLevel <= MaxUniformLevel && hypotenuse(edgeLevel) > p.maxEdgeLength * (1 + slack))
+    {
+      ++edgeLevel;
+    }
+    if (edgeLevel > MaxUniformLevel)
+    {
+      throw ParameterError("Grid48: MaximumEdgeLength " + std::to_string(p.maxEdgeLength) +
+        " is below " + std::to_string(hypotenuse(MaxUniformLevel)) + ", the hypotenuse of level " +
+        std::to_string(MaxUniformLevel) + " (the finest uniform refinement, 4 * 2^" +
+        std::to_string(MaxUniformLevel) + " triangles)");
+    }
+  }
+  // Cap of minEdgeLength: the finest level whose hypotenuse is >= it, not below edgeLevel.
+  int cap = MaxSupportedLevel;
+  if (p.minEdgeLength > 0.0)
+  {
+    cap = 0;
+    while (cap < MaxSupportedLevel && hypotenuse(cap + 1) >= p.minEdgeLength * (1 - slack))
+    {
+      ++cap;
+    }
+    cap = std::max(cap, edgeLevel);
+  }
+  // Levels without the edge lengths (explicit ones validated against each other), then the
+  // lengths: maxEdgeLength overrides the automatic level and raises the ones set, minEdgeLength
+  // lowers them all.
+  int maxLevel = p.maxLevel;
+  if (maxLevel == -1)
   {
     const double m = medianSegmentLength(model);
     int level = 10;
@@ -1033,29 +1160,51 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
       // hypotenuse(l) = side / 2^(l / 2) = 4 m  <=>  l = 2 log2(side / (4 m))
       level = static_cast<int>(std::lround(2.0 * std::log2(side / (4.0 * m))));
     }
-    p.maxLevel = std::clamp(level, 10, 20);
+    maxLevel = std::clamp(level, 10, 20);
   }
-  if (p.localMaxLevel == -1)
-  {
-    p.localMaxLevel = std::min(p.maxLevel + 4, MaxSupportedLevel);
-  }
-  else if (p.localMaxLevel < p.maxLevel || p.localMaxLevel > MaxSupportedLevel)
+  if (p.localMaxLevel != -1 && (p.localMaxLevel < maxLevel || p.localMaxLevel > MaxSupportedLevel))
   {
     throw ParameterError("Grid48: LocalMaxLevel " + std::to_string(p.localMaxLevel) +
-      " is not -1 (automatic) or in [MaxLevel = " + std::to_string(p.maxLevel) + ", " +
+      " is not -1 (automatic) or in [MaxLevel = " + std::to_string(maxLevel) + ", " +
       std::to_string(MaxSupportedLevel) + "]");
   }
+  const int localLevel =
+    p.localMaxLevel == -1 ? std::min(maxLevel + 4, MaxSupportedLevel) : p.localMaxLevel;
+  if (p.junctionMaxLevel != -1 &&
+    (p.junctionMaxLevel < localLevel || p.junctionMaxLevel > MaxSupportedLevel))
+  {
+    throw ParameterError("Grid48: JunctionMaxLevel " + std::to_string(p.junctionMaxLevel) +
+      " is not -1 (automatic) or in [LocalMaxLevel = " + std::to_string(localLevel) + ", " +
+      std::to_string(MaxSupportedLevel) + "]");
+  }
+  if (edgeLevel >= 0)
+  {
+    maxLevel = p.maxLevel == -1 ? edgeLevel : std::max(p.maxLevel, edgeLevel);
+  }
+  p.maxLevel = std::min(maxLevel, cap);
+  p.localMaxLevel = p.localMaxLevel == -1 ? std::min(p.maxLevel + 4, MaxSupportedLevel)
+                                          : std::max(p.localMaxLevel, p.maxLevel);
+  p.localMaxLevel = std::min(p.localMaxLevel, cap);
   if (p.junctionMaxLevel == -1)
   {
     p.junctionMaxLevel = p.localMaxLevel > p.maxLevel
       ? std::min(p.localMaxLevel + 8, MaxSupportedLevel)
       : p.localMaxLevel;
   }
-  else if (p.junctionMaxLevel < p.localMaxLevel || p.junctionMaxLevel > MaxSupportedLevel)
+  p.junctionMaxLevel = std::min(std::max(p.junctionMaxLevel, p.localMaxLevel), cap);
+  if (p.minLevel == -1)
   {
-    throw ParameterError("Grid48: JunctionMaxLevel " + std::to_string(p.junctionMaxLevel) +
-      " is not -1 (automatic) or in [LocalMaxLevel = " + std::to_string(p.localMaxLevel) + ", " +
-      std::to_string(MaxSupportedLevel) + "]");
+    p.minLevel = std::max(edgeLevel, 0);
+  }
+  else if (p.minLevel < 0 || p.minLevel > std::min(p.maxLevel, MaxUniformLevel))
+  {
+    throw ParameterError("Grid48: MinLevel " + std::to_string(p.minLevel) +
+      " is not -1 (automatic) or in [0, min(MaxLevel = " + std::to_string(p.maxLevel) + ", " +
+      std::to_string(MaxUniformLevel) + ")]");
+  }
+  else
+  {
+    p.minLevel = std::max(p.minLevel, edgeLevel);
   }
   if (!(p.featurePointAngle >= 0.0 && p.featurePointAngle <= 180.0))
   {
@@ -1069,8 +1218,7 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
   }
   if (p.tolerance == 0.0)
   {
-    const double s = std::ldexp(side, -(p.maxLevel / 2));
-    p.tolerance = 1e-3 * ((p.maxLevel % 2) ? s * 0.70710678118654752440 : s);
+    p.tolerance = 1e-3 * hypotenuse(p.maxLevel);
   }
   return p;
 }

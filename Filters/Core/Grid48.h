@@ -62,6 +62,8 @@ public:
   /// Whether some boundary segment is within `tolerance` of the segment ab (closed; 0 when
   /// they cross or touch).
   bool nearSegment(Vec2 a, Vec2 b, double tolerance);
+  /// Whether the segment ab (closed) meets the segments of two or more different curves.
+  bool twoCurvesMeet(Vec2 a, Vec2 b);
 
   enum TriangleResult
   {
@@ -153,7 +155,9 @@ struct Grid48Params
   /// splitting until they lie in different triangles makes the edges there comparable to
   /// their distance, and the 4-8 grading keeps the triangles around well shaped. Only the
   /// feature points whose nearest other feature point is within a triangle's hypotenuse are
-  /// tested, so this costs little (models have few close feature points).
+  /// tested, so this costs little (models have few close feature points). A pair that ends
+  /// a strip about as wide as their distance that goes on further than the local triangles
+  /// (a thin layer ending on the border) is not separated: only its ends would be resolved.
   bool junctionRefinement = true;
   /// Level cap of junctionRefinement. Range [localMaxLevel, 60], or -1 for
   /// min(localMaxLevel + 8, 60) (hypotenuses 16 times shorter than at localMaxLevel) when
@@ -163,7 +167,32 @@ struct Grid48Params
   /// Vertices inside a curve whose angle (between the two segments, in degrees) is below this
   /// are feature points too (for junctionRefinement). Range [0, 180]; 0: junctions only.
   double featurePointAngle = 0.0;
+  /// Sizes in model units: the levels chosen from edge lengths. A level's triangles have
+  /// their longest edge, the hypotenuse, of side / 2^(level / 2) (side: the domain's square).
+  /// maxEdgeLength > 0: with L the coarsest level whose hypotenuse is <= maxEdgeLength, every
+  /// triangle is split at least to level L (minLevel, when automatic, becomes L), so that no
+  /// grid edge anywhere is longer than maxEdgeLength; maxLevel becomes L when automatic (the
+  /// length overrides the automatic level) and max(maxLevel, L) when set (the finer wins);
+  /// localMaxLevel and junctionMaxLevel are raised to at least maxLevel, and their automatic
+  /// values follow the new maxLevel. Range 0 (default: no bound) or a finite value >= side /
+  /// 2048 (L <= MaxUniformLevel = 22, i.e. at most 16.8 M triangles of uniform refinement).
+  double maxEdgeLength = 0.0;
+  /// minEdgeLength > 0 caps the refinement: with L the finest level whose hypotenuse is >=
+  /// minEdgeLength (0 when even level 0's is shorter), maxLevel, localMaxLevel and
+  /// junctionMaxLevel, automatic or set, are lowered to at most max(L, the level of
+  /// maxEdgeLength) (the coarser wins; maxEdgeLength wins over it when both cannot hold, which
+  /// needs the two within a factor sqrt(2)). No leaf is then finer than that level: every
+  /// hypotenuse is >= minEdgeLength, or > minEdgeLength / sqrt(2) in that case. Range 0
+  /// (default: no cap) or finite > 0, not above maxEdgeLength when both are > 0.
+  double minEdgeLength = 0.0;
+  /// Every triangle is split at least to this level (uniform refinement). Range [0,
+  /// min(maxLevel, MaxUniformLevel)], or -1 (default) for automatic: the level of
+  /// maxEdgeLength when it is > 0, else 0; a level set is raised to that of maxEdgeLength.
+  int minLevel = -1;
 };
+
+/// The finest uniform level that maxEdgeLength / minLevel may ask for (4 * 2^22 triangles).
+constexpr int MaxUniformLevel = 22;
 
 /// Counters of the work done by the refinement calls so far (summed over calls).
 struct Grid48Statistics

@@ -13,7 +13,10 @@ namespace
 bool atLeastAsFine(const Grid48Params& next, const Grid48Params& current)
 {
   return next.maxLevel >= current.maxLevel && next.localMaxLevel >= current.localMaxLevel &&
+    next.junctionMaxLevel >= current.junctionMaxLevel && next.minLevel >= current.minLevel &&
     next.tolerance <= current.tolerance &&
+    (next.junctionRefinement || !current.junctionRefinement) &&
+    next.featurePointAngle >= current.featurePointAngle &&
     (next.localRefinement || !current.localRefinement) &&
     (next.thinRegionRefinement || !current.thinRegionRefinement) && next.margin == current.margin;
 }

@@ -774,6 +774,19 @@ TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
   }
 }
 
+TEST(Grid48Test, the_junctions_ending_a_thin_strip_are_not_separated)
+{
+  // thin_layer's 1-unit layer ends on the model's border in two junctions 1 apart at each
+  // end; the layer goes on, thinner than its triangles, so (d) leaves the pair alone (it cost
+  // 7 degrees of minimum angle there, see Grid48.cpp). A strip wider apart further away (the
+  // fault throws of gulf_section) is still separated: close_junctions_end_up_in_different_...
+  const Loaded& m = load("thin_layer.vtp");
+  const Grid48 grid = Grid48::build(m.model, *m.field);
+  EXPECT_EQ(grid.params().junctionMaxLevel, grid.params().localMaxLevel + 8);
+  EXPECT_LE(grid.maxLeafLevel(), grid.params().localMaxLevel);
+  EXPECT_EQ(grid.statistics().featureTests, 0u);
+}
+
 TEST(Grid48Test, both_forms_of_a_model_refine_alike)
 {
   for (const auto& [shared, loops] :
@@ -937,6 +950,139 @@ TEST(Grid48Test, parameters_out_of_range_throw)
   p.maxLevel = 12;
   p.localMaxLevel = 12;
   EXPECT_LE(build(p).maxLeafLevel(), 12);
+}
+
+// The longest and shortest hypotenuse among the leaves.
+std::pair<double, double> leafHypotenuseRange(const Grid48& grid)
+{
+  double longest = 0.0, shortest = HUGE_VAL;
+  for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+  {
+    if (grid.isLeaf(t))
+    {
+      const auto& v = grid.nodeVertices(t);
+      const double h = std::hypot(grid.vertexPosition(v[1]).x - grid.vertexPosition(v[2]).x,
+        grid.vertexPosition(v[1]).y - grid.vertexPosition(v[2]).y);
+      longest = std::max(longest, h);
+      shortest = std::min(shortest, h);
+    }
+  }
+  return { longest, shortest };
+}
+
+TEST(Grid48Test, edge_lengths_in_model_units_choose_the_levels)
+{
+  for (const std::string name : { "gulf_section.vtp", "salt_dome.vtp", "thin_layer.vtp" })
+  {
+    const Loaded& m = load(name);
+    const Grid48 automatic = Grid48::build(m.model, *m.field);
+    const double side = automatic.side();
+    // MaximumEdgeLength: every leaf's hypotenuse (its longest edge) is at most that long,
+    // far from the boundary too; the level overrides the automatic one.
+    for (const double fraction : { 0.3, 0.07, 0.011 })
+    {
+      Grid48Params p;
+      p.maxEdgeLength = fraction * side;
+      const Grid48 grid = Grid48::build(m.model, *m.field, p);
+      const Grid48Params& r = grid.params();
+      const int level = r.minLevel;
+      EXPECT_LE(grid.hypotenuseLength(level), p.maxEdgeLength) << name;
+      EXPECT_GT(grid.hypotenuseLength(level - 1), p.maxEdgeLength) << name; // the coarsest
+      EXPECT_EQ(r.maxLevel, level) << name;
+      EXPECT_EQ(r.localMaxLevel, level + 4) << name;
+      EXPECT_LE(leafHypotenuseRange(grid).first, p.maxEdgeLength) << name << " " << fraction;
+      expectValidMesh(grid, grid.extract(), name);
+      // A MaxLevel set finer than the length's level wins; a coarser one is raised to it.
+      p.maxLevel = level + 3;
+      EXPECT_EQ(Grid48::resolveParams(m.model, p).maxLevel, level + 3) << name;
+      EXPECT_EQ(Grid48::resolveParams(m.model, p).minLevel, level) << name;
+      p.maxLevel = level > 0 ? level - 1 : 0;
+      p.localMaxLevel = p.maxLevel;
+      const Grid48Params raised = Grid48::resolveParams(m.model, p);
+      EXPECT_EQ(raised.maxLevel, level) << name;
+      EXPECT_EQ(raised.localMaxLevel, level) << name; // raised to MaxLevel, no local levels
+      EXPECT_EQ(raised.junctionMaxLevel, level) << name;
+    }
+    // MinimumEdgeLength caps every level, set or automatic: no leaf's hypotenuse is shorter.
+    const double shortest = leafHypotenuseRange(automatic).second;
+    for (const double factor : { 2.0, 16.0, 100.0 })
+    {
+      Grid48Params p;
+      p.minEdgeLength = factor * shortest;
+      p.localMaxLevel = -1;
+      const Grid48 grid = Grid48::build(m.model, *m.field, p);
+      const Grid48Params& r = grid.params();
+      EXPECT_GE(grid.hypotenuseLength(r.junctionMaxLevel), p.minEdgeLength) << name;
+      EXPECT_LT(grid.hypotenuseLength(r.junctionMaxLevel + 1), p.minEdgeLength) << name;
+      EXPECT_LE(r.maxLevel, r.localMaxLevel);
+      EXPECT_LE(r.localMaxLevel, r.junctionMaxLevel);
+      EXPECT_LE(r.maxLevel, automatic.params().maxLevel) << name;
+      EXPECT_GE(leafHypotenuseRange(grid).second, p.minEdgeLength * (1 - 1e-9))
+        << name << " " << factor;
+      EXPECT_LT(grid.numberOfLeaves(), automatic.numberOfLeaves()) << name;
+      expectValidMesh(grid, grid.extract(), name);
+      p.maxLevel = 40; // a level set finer than the cap is lowered (the coarser wins)
+      p.localMaxLevel = 44;
+      EXPECT_EQ(Grid48::resolveParams(m.model, p).localMaxLevel, r.junctionMaxLevel) << name;
+      EXPECT_EQ(Grid48::resolveParams(m.model, p).maxLevel, r.junctionMaxLevel) << name;
+    }
+    // Both: every hypotenuse in [minimum, maximum], and when the two are within a factor
+    // sqrt(2) of each other the maximum wins (hypotenuses above minimum / sqrt(2)).
+    for (const double ratio : { 4.0, 1.2, 1.0 })
+    {
+      Grid48Params p;
+      p.maxEdgeLength = 0.05 * side;
+      p.minEdgeLength = p.maxEdgeLength / ratio;
+      const Grid48 grid = Grid48::build(m.model, *m.field, p);
+      const auto range = leafHypotenuseRange(grid);
+      EXPECT_LE(range.first, p.maxEdgeLength) << name << " " << ratio;
+      EXPECT_GT(range.second, p.minEdgeLength / std::sqrt(2.0)) << name << " " << ratio;
+      expectValidMesh(grid, grid.extract(), name);
+    }
+  }
+  // Out of range, naming the parameter.
+  const Loaded& m = load("pinch_out.vtp");
+  const double side = Grid48::build(m.model, *m.field).side();
+  auto message = [&](const Grid48Params& p) -> std::string
+  {
+    try
+    {
+      Grid48::resolveParams(m.model, p);
+    }
+    catch (const strata::ParameterError& e)
+    {
+      return e.what();
+    }
+    return "";
+  };
+  for (const double bad : { -1.0, std::nan(""), HUGE_VAL })
+  {
+    Grid48Params p;
+    p.maxEdgeLength = bad;
+    EXPECT_NE(message(p).find("MaximumEdgeLength"), std::string::npos);
+    p = {};
+    p.minEdgeLength = bad;
+    EXPECT_NE(message(p).find("MinimumEdgeLength"), std::string::npos);
+  }
+  Grid48Params p;
+  p.maxEdgeLength = 1e-3 * side; // level 20 (4 M triangles) is still allowed
+  EXPECT_EQ(message(p), "");
+  p.maxEdgeLength = side / 4096.0; // level 24: too many triangles
+  EXPECT_NE(message(p).find("MaximumEdgeLength"), std::string::npos);
+  p.maxEdgeLength = 1.0;
+  p.minEdgeLength = 2.0;
+  EXPECT_NE(message(p).find("MinimumEdgeLength"), std::string::npos);
+  p = {};
+  p.minLevel = 23;
+  p.maxLevel = 30;
+  EXPECT_NE(message(p).find("MinLevel"), std::string::npos);
+  p.minLevel = 31;
+  p.maxLevel = 30;
+  EXPECT_NE(message(p).find("MinLevel"), std::string::npos);
+  // A minEdgeLength longer than the whole domain keeps level 0.
+  p = {};
+  p.minEdgeLength = 10.0 * side;
+  EXPECT_EQ(Grid48::build(m.model, *m.field, p).numberOfLeaves(), 4u);
 }
 
 TEST(Grid48Test, progress_is_reported_and_abort_leaves_a_valid_grid)

@@ -19,10 +19,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 using strata_test::Reader;
 using strata_test::SignedArea;
@@ -167,6 +170,90 @@ TEST(PhysicalCompressionTriangulatorTest, abort_stops_the_request_early)
   mesher->Update();
   EXPECT_NE(log->Errors.find("aborted"), std::string::npos) << log->Errors;
   EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
+}
+
+namespace
+{
+// Longest and shortest edge of the mesh's triangles.
+std::pair<double, double> EdgeRange(vtkUnstructuredGrid* mesh)
+{
+  double longest = 0.0, shortest = HUGE_VAL;
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    const vtkIdType* ids = nullptr;
+    vtkIdType n = 0;
+    mesh->GetCellPoints(c, n, ids);
+    for (vtkIdType k = 0; k < n; ++k)
+    {
+      double a[3], b[3];
+      mesh->GetPoint(ids[k], a);
+      mesh->GetPoint(ids[(k + 1) % n], b);
+      const double length = std::hypot(a[0] - b[0], a[1] - b[1]);
+      longest = std::max(longest, length);
+      shortest = std::min(shortest, length);
+    }
+  }
+  return { longest, shortest };
+}
+} // namespace
+
+TEST(PhysicalCompressionTriangulatorTest, edge_lengths_in_model_units_bound_the_mesh)
+{
+  // MaximumEdgeLength: every triangle comes from a grid triangle whose longest edge is at most
+  // that long (its Level); the compression moves vertices onto the curves, which stretches
+  // some edges: the longest mesh edge stays below 2 MaximumEdgeLength (the factor documented
+  // with the property; at most 1.59 measured on the bundled models, 4 lengths each).
+  // MinimumEdgeLength: no triangle comes from a grid triangle shorter than that, and there
+  // are fewer triangles than with the automatic levels.
+  const std::vector<std::pair<std::string, std::vector<double>>> cases = { { "pinch_out.vtp",
+                                                                             { 50.0, 20.0 } },
+    { "salt_dome.vtp", { 412.5, 206.25 } },
+    { "gulf_section.vtp", { 1600.0, 800.0 } },
+    { "thin_layer.vtp", { 22.359, 4.4718 } } };
+  for (const auto& [name, lengths] : cases)
+  {
+    auto reader = Reader(name);
+    reader->Update();
+    const double* b = reader->GetOutput()->GetBounds();
+    const double side = 1.1 * std::max(b[1] - b[0], b[3] - b[2]); // the grid's square
+    const auto hypotenuse = [side](double level)
+    { return side * std::pow(2.0, -0.5 * static_cast<double>(static_cast<int>(level))); };
+    vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+    mesher->SetInputConnection(reader->GetOutputPort());
+    auto log = Watch(mesher);
+    mesher->Update();
+    ASSERT_TRUE(log->Errors.empty()) << log->Errors;
+    const vtkIdType automatic = mesher->GetOutput()->GetNumberOfCells();
+    double finest[2];
+    mesher->GetOutput()->GetCellData()->GetArray("Level")->GetRange(finest);
+    for (const double length : lengths)
+    {
+      mesher->SetMaximumEdgeLength(length);
+      mesher->Update();
+      ASSERT_TRUE(log->Errors.empty()) << log->Errors;
+      vtkUnstructuredGrid* mesh = mesher->GetOutput();
+      ASSERT_GT(mesh->GetNumberOfCells(), 0) << name;
+      EXPECT_LE(EdgeRange(mesh).first, 2.0 * length) << name << " " << length;
+      vtkDataArray* level = mesh->GetCellData()->GetArray("Level");
+      for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+      {
+        ASSERT_LE(hypotenuse(level->GetTuple1(c)), length * (1 + 1e-9)) << name << " " << c;
+      }
+    }
+    mesher->SetMaximumEdgeLength(0.0);
+    const double minimum = 2.0 * hypotenuse(finest[1]); // two levels coarser than automatic
+    mesher->SetMinimumEdgeLength(minimum);
+    mesher->Update();
+    ASSERT_TRUE(log->Errors.empty()) << log->Errors;
+    vtkUnstructuredGrid* mesh = mesher->GetOutput();
+    EXPECT_LT(mesh->GetNumberOfCells(), automatic) << name;
+    vtkDataArray* level = mesh->GetCellData()->GetArray("Level");
+    for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+    {
+      ASSERT_GE(hypotenuse(level->GetTuple1(c)), minimum * (1 - 1e-9)) << name << " " << c;
+    }
+    mesher->SetMinimumEdgeLength(0.0);
+  }
 }
 
 TEST(PhysicalCompressionTriangulatorTest, binary_vtu_round_trips_through_debian_readers)

@@ -68,6 +68,25 @@ const std::vector<BadValue> BadValues = {
   { "Tolerance infinite",
     [](auto* f) { f->SetTolerance(std::numeric_limits<double>::infinity()); },
     "Tolerance = inf is out of range [0, inf)" },
+  { "MaximumEdgeLength negative",
+    [](auto* f) { f->SetMaximumEdgeLength(-2.0); },
+    "MaximumEdgeLength = -2 is out of range [0, inf)" },
+  { "MaximumEdgeLength NaN",
+    [](auto* f) { f->SetMaximumEdgeLength(NaN); },
+    "MaximumEdgeLength = nan is out of range [0, inf)" },
+  { "MaximumEdgeLength finer than level 22", // pinch_out: the grid's side is 1100
+    [](auto* f) { f->SetMaximumEdgeLength(0.1); },
+    "MaximumEdgeLength 0.100000 is below" },
+  { "MinimumEdgeLength infinite",
+    [](auto* f) { f->SetMinimumEdgeLength(std::numeric_limits<double>::infinity()); },
+    "MinimumEdgeLength = inf is out of range [0, inf)" },
+  { "MinimumEdgeLength above MaximumEdgeLength",
+    [](auto* f)
+    {
+      f->SetMaximumEdgeLength(10.0);
+      f->SetMinimumEdgeLength(20.0);
+    },
+    "MinimumEdgeLength = 20 is above MaximumEdgeLength = 10" },
   { "Form", [](auto* f) { f->SetForm(3); }, "Form = 3 is out of range [0, 2]" },
   { "SpringConfiguration",
     [](auto* f) { f->SetSpringConfiguration(2); },
@@ -186,6 +205,8 @@ TEST(PropertyValidationTest, values_on_the_range_bounds_are_accepted)
   mesher->SetPushCriterion(2);
   mesher->SetPushVelocity(10.0);
   mesher->SetFeatureAngle(180.0);
+  mesher->SetMaximumEdgeLength(0.0);
+  mesher->SetMinimumEdgeLength(0.0);
   auto log = Watch(mesher);
   mesher->Update();
   EXPECT_FALSE(log->Has("out of range")) << log->Errors;
@@ -200,8 +221,10 @@ TEST(PropertyValidationTest, grid_filters_name_their_properties_out_of_range)
     grid->SetInputConnection(reader->GetOutputPort());
     grid->SetOutputLevel(61);
     grid->SetMaxLevel(-3);
+    grid->SetMinimumEdgeLength(-1.0);
     auto log = Watch(grid);
     grid->Update();
+    EXPECT_TRUE(log->Has("MinimumEdgeLength = -1 is out of range [0, inf)")) << log->Errors;
     EXPECT_TRUE(log->Has("OutputLevel = 61 is out of range [-1, 60]")) << log->Errors;
     EXPECT_TRUE(log->Has("MaxLevel = -3 is out of range [-1, 60]")) << log->Errors;
     EXPECT_EQ(grid->GetOutput()->GetNumberOfCells(), 0);

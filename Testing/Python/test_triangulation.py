@@ -32,7 +32,8 @@ class TriangulationTest(unittest.TestCase):
         self.assertEqual(mesh.Optimization, 1)
         self.assertAlmostEqual(mesh.FeatureAngle, 140.0)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
-                     "Tolerance", "Form", "RegionArrayName"):
+                     "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
+                     "MinimumEdgeLength"):
             self.assertTrue(hasattr(mesh, name), name)
 
     def test_meshes_a_shared_curves_model_conserving_region_areas(self):
@@ -61,6 +62,29 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(len(left), 0)
         self.assertTrue((left != right).all())
         self.assertEqual(set(np.unique(np.concatenate([left, right]))), {-1, 0, 1, 2})
+
+    def test_edge_lengths_in_model_units_choose_the_levels(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
+        mesh = Triangulation(Input=model)
+        self.assertEqual(mesh.MaximumEdgeLength, 0.0)
+        self.assertEqual(mesh.MinimumEdgeLength, 0.0)
+        # pinch_out is 1000 x 100: the grid's square has side 1100, hypotenuses 1100 / 2^(l/2).
+        mesh.MaximumEdgeLength = 50.0
+        out = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        level = np.asarray(out.CellData["Level"])
+        self.assertGreaterEqual(level.min(), 9)  # level 9: 48.6, the coarsest <= 50
+        pts = np.asarray(out.Points)[:, :2]
+        cells = np.asarray(out.Cells).reshape(-1, 4)[:, 1:]
+        edges = [np.linalg.norm(pts[cells[:, i]] - pts[cells[:, (i + 1) % 3]], axis=1)
+                 for i in range(3)]
+        longest = max(e.max() for e in edges)
+        self.assertLessEqual(longest, 2.0 * 50.0)  # the documented factor after compression
+        # MinimumEdgeLength caps every level: here at level 12 (hypotenuse 17.2 >= 15).
+        mesh.MaximumEdgeLength = 0.0
+        mesh.MinimumEdgeLength = 15.0
+        out = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        self.assertLessEqual(np.asarray(out.CellData["Level"]).max(), 12)
+        self.assertGreater(out.GetNumberOfCells(), 0)
 
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
