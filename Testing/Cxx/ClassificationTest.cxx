@@ -25,23 +25,11 @@ using strata::Grid48Params;
 using strata::TriangleMesh;
 using strata::Vec2;
 
-struct Loaded
-{
-  strata::Model model;
-  std::unique_ptr<strata::DistanceField> field;
-};
+using Loaded = strata_test::LoadedModel;
 
 const Loaded& load(const std::string& name)
 {
-  static std::map<std::string, std::unique_ptr<Loaded>> cache;
-  std::unique_ptr<Loaded>& entry = cache[name];
-  if (!entry)
-  {
-    entry = std::make_unique<Loaded>();
-    entry->model = strata_test::loadModel(name);
-    entry->field = std::make_unique<strata::DistanceField>(entry->model);
-  }
-  return *entry;
+  return strata_test::loadModelAndField(name);
 }
 
 TriangleMesh gridMesh(const Loaded& m, int maxLevel, int localMaxLevel)

@@ -3,6 +3,7 @@
 #ifndef StrataMesh_CoreTestUtilities_h
 #define StrataMesh_CoreTestUtilities_h
 
+#include "DistanceField.h"
 #include "Geometry.h"
 #include "Model.h"
 #include "VtpAscii.h"
@@ -10,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -37,6 +40,26 @@ inline const std::vector<std::string> kModels = { "lake_superior.vtp",
 inline strata::Model loadModel(const std::string& name)
 {
   return strata::buildModel(readVtpAscii(dataPath(name)));
+}
+
+/// A model of Data/ with its distance field, built once per test program and cached.
+struct LoadedModel
+{
+  strata::Model model;
+  std::unique_ptr<strata::DistanceField> field;
+};
+
+inline const LoadedModel& loadModelAndField(const std::string& name)
+{
+  static std::map<std::string, std::unique_ptr<LoadedModel>> cache;
+  std::unique_ptr<LoadedModel>& entry = cache[name];
+  if (!entry)
+  {
+    entry = std::make_unique<LoadedModel>();
+    entry->model = loadModel(name);
+    entry->field = std::make_unique<strata::DistanceField>(entry->model);
+  }
+  return *entry;
 }
 
 /// n uniform random points over `box` grown on every side by margin times its larger side.

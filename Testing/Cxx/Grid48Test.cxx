@@ -5,6 +5,7 @@
 
 #include "DistanceField.h"
 #include "Errors.h"
+#include "CoreTestUtilities.h"
 #include "VtpAscii.h"
 
 #include <gtest/gtest.h>
@@ -29,23 +30,11 @@ using strata::Grid48Params;
 using strata::TriangleMesh;
 using strata::Vec2;
 
-struct Loaded
-{
-  strata::Model model;
-  std::unique_ptr<strata::DistanceField> field;
-};
+using Loaded = strata_test::LoadedModel;
 
 const Loaded& load(const std::string& name)
 {
-  static std::map<std::string, std::unique_ptr<Loaded>> cache;
-  std::unique_ptr<Loaded>& entry = cache[name];
-  if (!entry)
-  {
-    entry = std::make_unique<Loaded>();
-    entry->model = strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath(name)));
-    entry->field = std::make_unique<strata::DistanceField>(entry->model);
-  }
-  return *entry;
+  return strata_test::loadModelAndField(name);
 }
 
 // Every model in Data/ but the 5872-point Lake Superior (only the defaults test uses it).
