@@ -14,5 +14,5 @@ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >"$build.configure.log" 
 }
 echo "[build] building with $jobs jobs"
 cmake --build "$build" -j "$jobs"
-plugin="$(find "$build" -name StrataMesh.so | head -n 1)"
+plugin="$build/lib/paraview-5.11/plugins/StrataMesh/StrataMesh.so"
 echo "[build] plugin: $plugin"

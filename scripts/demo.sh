@@ -6,7 +6,7 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/build.sh"
 build="${STRATAMESH_BUILD_DIR:-$here/build}"
-plugin="$(find "$build" -name StrataMesh.so | head -n 1)"
+plugin="$build/lib/paraview-5.11/plugins/StrataMesh/StrataMesh.so"
 model="${1:-$here/Data/lake_superior.vtp}"
 mkdir -p "$here/out"
 # pvbatch renders through X: a virtual display (xvfb-run) when none is there.

@@ -4,6 +4,6 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 bash "$here/scripts/build.sh"
 build="${STRATAMESH_BUILD_DIR:-$here/build}"
-plugin="$(find "$build" -name StrataMesh.so | head -n 1)"
+plugin="$build/lib/paraview-5.11/plugins/StrataMesh/StrataMesh.so"
 xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$here/scripts/pictures.py" \
   --plugin "$plugin" --data "$here/Data" --out "$here/Documentation"

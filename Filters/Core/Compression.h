@@ -49,7 +49,7 @@ struct CompressionParams
   /// 0.03 h in 10 steps; the others sleep, see SpringSystem::setAwake), or nothing moves by
   /// 1e-3 h for 10 steps. Range [0, 1e6]; 0 skips
   /// the simulation (boundary vertices are then only placed by the optimization's snap).
-  int maxIterations = 300;
+  int maxIterations = 600;
   /// Default: OneSide (the paper's best).
   PushCriterion pushCriterion = PushCriterion::OneSide;
   /// Speed of pushed vertices in local edge lengths per unit time: with the default time step
