@@ -385,22 +385,10 @@ strata::Model slabModel()
   strata::RawPolylines raw;
   raw.form = strata::ModelForm::Loops;
   raw.offsets.push_back(0);
-  auto addLoop = [&raw](const std::vector<Vec2>& pts, int region)
-  {
-    const std::int64_t base = static_cast<std::int64_t>(raw.points.size());
-    for (std::size_t i = 0; i < pts.size(); ++i)
-    {
-      raw.points.push_back(pts[i]);
-      raw.connectivity.push_back(base + static_cast<std::int64_t>(i));
-    }
-    raw.connectivity.push_back(base);
-    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
-    raw.regionId.push_back(region);
-  };
   const std::vector<Vec2> slab = { { -1, 0.01 }, { 1, 0.01 }, { 1, 0.03 }, { -1, 0.03 } };
-  addLoop({ { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
-  addLoop(slab, 0);
-  addLoop(slab, 1);
+  strata_test::addClosedLoop(raw, { { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
+  strata_test::addClosedLoop(raw, slab, 0);
+  strata_test::addClosedLoop(raw, slab, 1);
   return strata::buildModel(raw);
 }
 

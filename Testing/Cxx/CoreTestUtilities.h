@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <random>
@@ -91,6 +92,52 @@ inline double bruteForceDistance2(const std::vector<strata::Vec2>& a,
     best = std::min(best, strata::pointSegmentDistance2(p, a[i], b[i]));
   }
   return best;
+}
+
+/// Adds a cell through the given points (new point ids for each) to hand-made raw input.
+inline void addCell(strata::RawPolylines& raw,
+  const std::vector<strata::Vec2>& points,
+  strata::CellKind kind = strata::CellKind::Line)
+{
+  if (raw.offsets.empty())
+  {
+    raw.offsets.push_back(0);
+  }
+  for (const strata::Vec2& p : points)
+  {
+    raw.connectivity.push_back(static_cast<std::int64_t>(raw.points.size()));
+    raw.points.push_back(p);
+  }
+  raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
+  raw.kinds.push_back(kind);
+}
+
+/// A loop of region `region` (Loops form) through the points as given.
+inline void addLoop(strata::RawPolylines& raw,
+  const std::vector<strata::Vec2>& points,
+  int region,
+  strata::CellKind kind = strata::CellKind::Line)
+{
+  addCell(raw, points, kind);
+  raw.regionId.push_back(region);
+}
+
+/// A loop of region `region` whose last point repeats its first one (explicitly closed).
+inline void addClosedLoop(strata::RawPolylines& raw, std::vector<strata::Vec2> points, int region)
+{
+  points.push_back(points.front());
+  addLoop(raw, points, region);
+}
+
+/// A curve of the Shared curves form.
+inline void addCurve(strata::RawPolylines& raw,
+  const std::vector<strata::Vec2>& points,
+  int left,
+  int right)
+{
+  addCell(raw, points);
+  raw.leftRegion.push_back(left);
+  raw.rightRegion.push_back(right);
 }
 
 } // namespace strata_test

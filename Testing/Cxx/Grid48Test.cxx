@@ -617,21 +617,9 @@ TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curv
   // One closed curve: a lens 0.02 thick and 2 long in a 4 x 4 square region (Loops form).
   strata::RawPolylines raw;
   raw.form = strata::ModelForm::Loops;
-  auto addLoop = [&raw](const std::vector<Vec2>& pts, int region)
-  {
-    const std::int64_t base = static_cast<std::int64_t>(raw.points.size());
-    for (std::size_t i = 0; i < pts.size(); ++i)
-    {
-      raw.points.push_back(pts[i]);
-      raw.connectivity.push_back(base + static_cast<std::int64_t>(i));
-    }
-    raw.connectivity.push_back(base);
-    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
-    raw.regionId.push_back(region);
-  };
   raw.offsets.push_back(0);
-  addLoop({ { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
-  addLoop({ { -1, 0.011 }, { 1, 0.011 }, { 1, 0.031 }, { -1, 0.031 } }, 1);
+  strata_test::addClosedLoop(raw, { { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
+  strata_test::addClosedLoop(raw, { { -1, 0.011 }, { 1, 0.011 }, { 1, 0.031 }, { -1, 0.031 } }, 1);
   const strata::Model model = strata::buildModel(raw);
   const strata::DistanceField field(model);
   Grid48Params p;
@@ -712,24 +700,12 @@ TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
   // Four regions whose borders meet at two triple junctions j0 and j1 1e-4 apart.
   strata::RawPolylines raw;
   raw.form = strata::ModelForm::Loops;
-  auto addLoop = [&raw](const std::vector<Vec2>& pts, int region)
-  {
-    const std::int64_t base = static_cast<std::int64_t>(raw.points.size());
-    for (std::size_t i = 0; i < pts.size(); ++i)
-    {
-      raw.points.push_back(pts[i]);
-      raw.connectivity.push_back(base + static_cast<std::int64_t>(i));
-    }
-    raw.connectivity.push_back(base);
-    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
-    raw.regionId.push_back(region);
-  };
   raw.offsets.push_back(0);
   const Vec2 j0{ 0.3, 0.5 }, j1{ 0.3001, 0.5 };
-  addLoop({ { 0, 0 }, { 0.3, 0 }, j0, { 0, 0.5 } }, 1);
-  addLoop({ { 0.3, 0 }, { 1, 0 }, { 1, 0.5 }, j1, j0 }, 2);
-  addLoop({ { 0, 0.5 }, j0, j1, { 0.3001, 1 }, { 0, 1 } }, 0);
-  addLoop({ j1, { 1, 0.5 }, { 1, 1 }, { 0.3001, 1 } }, 3);
+  strata_test::addClosedLoop(raw, { { 0, 0 }, { 0.3, 0 }, j0, { 0, 0.5 } }, 1);
+  strata_test::addClosedLoop(raw, { { 0.3, 0 }, { 1, 0 }, { 1, 0.5 }, j1, j0 }, 2);
+  strata_test::addClosedLoop(raw, { { 0, 0.5 }, j0, j1, { 0.3001, 1 }, { 0, 1 } }, 0);
+  strata_test::addClosedLoop(raw, { j1, { 1, 0.5 }, { 1, 1 }, { 0.3001, 1 } }, 3);
   const strata::Model small = strata::buildModel(raw);
   const strata::DistanceField field(small);
   std::vector<Vec2> pair; // local coordinates

@@ -3,6 +3,7 @@
 // rule of buildModel (forms, repairs, errors, orientation, junctions, tolerances).
 #include "Model.h"
 
+#include "CoreTestUtilities.h"
 #include "Errors.h"
 #include "VtpAscii.h"
 
@@ -235,37 +236,9 @@ int nodeAt(const Model& model, Vec2 input)
   return -1;
 }
 
-/// Adds a cell through the given points (new point ids for each).
-void addCell(RawPolylines& raw, const std::vector<Vec2>& points, CellKind kind = CellKind::Line)
-{
-  if (raw.offsets.empty())
-  {
-    raw.offsets.push_back(0);
-  }
-  for (const Vec2& p : points)
-  {
-    raw.connectivity.push_back(static_cast<std::int64_t>(raw.points.size()));
-    raw.points.push_back(p);
-  }
-  raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
-  raw.kinds.push_back(kind);
-}
-
-void addLoop(RawPolylines& raw,
-  const std::vector<Vec2>& points,
-  int region,
-  CellKind kind = CellKind::Line)
-{
-  addCell(raw, points, kind);
-  raw.regionId.push_back(region);
-}
-
-void addCurve(RawPolylines& raw, const std::vector<Vec2>& points, int left, int right)
-{
-  addCell(raw, points);
-  raw.leftRegion.push_back(left);
-  raw.rightRegion.push_back(right);
-}
+using strata_test::addCell;
+using strata_test::addCurve;
+using strata_test::addLoop;
 
 /// Two unit squares side by side: region 0 = [0,1]x[0,1], region 1 = [1,2]x[0,1].
 RawPolylines twoSquaresLoops()
