@@ -244,6 +244,41 @@ const Vec2 kCompass[8] = { { 1, 0 },
   { 0, -1 },
   { 1, -1 } };
 
+/// For every model of kModels, every ring vertex i: `around(model, ring, i, emit)` calls
+/// emit(p) for the points to test near that vertex; every point's sign must match the
+/// brute-force even-odd rule.
+template<typename Around>
+void expectSignsMatchAroundRingVertices(Around&& around)
+{
+  for (const std::string& name : kModels)
+  {
+    SCOPED_TRACE(name);
+    const Model model = loadModel(name);
+    const DistanceField field(model);
+    const SignChecker checker(model, field);
+    DistanceField::Scratch scratch;
+    Tally tally;
+    for (std::size_t r = 0; r < model.regions.size(); ++r)
+    {
+      for (const Ring& ring : model.regions[r].rings)
+      {
+        for (std::size_t i = 0; i < ring.points.size(); ++i)
+        {
+          around(model,
+            ring,
+            i,
+            [&](Vec2 p)
+            {
+              std::string message;
+              tally.add(checker.check(r, p, scratch, message), message);
+            });
+        }
+      }
+    }
+    EXPECT_EQ(tally.failed, 0u) << tally.first;
+  }
+}
+
 } // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -572,36 +607,20 @@ TEST(DistanceFieldTest, sign_matches_even_odd_on_segment_extensions)
 {
   // Collinear points 0.5 and 2 segment lengths beyond both ends of every segment: the
   // closest boundary point is often the segment's end vertex, with p - v along the segment.
-  for (const std::string& name : kModels)
-  {
-    SCOPED_TRACE(name);
-    const Model model = loadModel(name);
-    const DistanceField field(model);
-    const SignChecker checker(model, field);
-    DistanceField::Scratch scratch;
-    Tally tally;
-    for (std::size_t r = 0; r < model.regions.size(); ++r)
+  expectSignsMatchAroundRingVertices(
+    [](const Model&, const Ring& ring, std::size_t i, const auto& emit)
     {
-      for (const Ring& ring : model.regions[r].rings)
+      const std::size_t n = ring.points.size();
+      const Vec2 a = ring.points[i];
+      const Vec2 b = ring.points[(i + 1) % n];
+      for (const double f : { 0.5, 2.0 })
       {
-        const std::size_t n = ring.points.size();
-        for (std::size_t i = 0; i < n; ++i)
+        for (const Vec2 p : { b + f * (b - a), a + f * (a - b) })
         {
-          const Vec2 a = ring.points[i];
-          const Vec2 b = ring.points[(i + 1) % n];
-          for (const double f : { 0.5, 2.0 })
-          {
-            for (const Vec2 p : { b + f * (b - a), a + f * (a - b) })
-            {
-              std::string message;
-              tally.add(checker.check(r, p, scratch, message), message);
-            }
-          }
+          emit(p);
         }
       }
-    }
-    EXPECT_EQ(tally.failed, 0u) << tally.first;
-  }
+    });
 }
 
 TEST(DistanceFieldTest, sign_matches_even_odd_at_convex_and_reflex_corners)
@@ -609,46 +628,30 @@ TEST(DistanceFieldTest, sign_matches_even_odd_at_convex_and_reflex_corners)
   // p = v +- eps * (bisector of the corner at v), for eps small against the adjacent edges:
   // the closest boundary point is the vertex v itself.
   std::size_t convex = 0, reflex = 0;
-  for (const std::string& name : kModels)
-  {
-    SCOPED_TRACE(name);
-    const Model model = loadModel(name);
-    const DistanceField field(model);
-    const SignChecker checker(model, field);
-    DistanceField::Scratch scratch;
-    Tally tally;
-    for (std::size_t r = 0; r < model.regions.size(); ++r)
+  expectSignsMatchAroundRingVertices(
+    [&](const Model&, const Ring& ring, std::size_t i, const auto& emit)
     {
-      for (const Ring& ring : model.regions[r].rings)
+      const std::size_t n = ring.points.size();
+      const Vec2 u = ring.points[(i + n - 1) % n];
+      const Vec2 v = ring.points[i];
+      const Vec2 w = ring.points[(i + 1) % n];
+      const double turn = strata::orient2d(u, v, w);
+      (turn > 0.0 ? convex : reflex) += turn != 0.0;
+      Vec2 bisector = unit(u - v) + unit(w - v);
+      if (strata::norm(bisector) < 1e-9)
       {
-        const std::size_t n = ring.points.size();
-        for (std::size_t i = 0; i < n; ++i)
+        bisector = Vec2{ -(w - v).y, (w - v).x }; // straight: the normal
+      }
+      bisector = unit(bisector);
+      const double edge = std::min(strata::norm(u - v), strata::norm(w - v));
+      for (const double eps : { 1e-3 * edge, 1e-7 * edge })
+      {
+        for (const double side : { 1.0, -1.0 })
         {
-          const Vec2 u = ring.points[(i + n - 1) % n];
-          const Vec2 v = ring.points[i];
-          const Vec2 w = ring.points[(i + 1) % n];
-          const double turn = strata::orient2d(u, v, w);
-          (turn > 0.0 ? convex : reflex) += turn != 0.0;
-          Vec2 bisector = unit(u - v) + unit(w - v);
-          if (strata::norm(bisector) < 1e-9)
-          {
-            bisector = Vec2{ -(w - v).y, (w - v).x }; // straight: the normal
-          }
-          bisector = unit(bisector);
-          const double edge = std::min(strata::norm(u - v), strata::norm(w - v));
-          for (const double eps : { 1e-3 * edge, 1e-7 * edge })
-          {
-            for (const double side : { 1.0, -1.0 })
-            {
-              std::string message;
-              tally.add(checker.check(r, v + (side * eps) * bisector, scratch, message), message);
-            }
-          }
+          emit(v + (side * eps) * bisector);
         }
       }
-    }
-    EXPECT_EQ(tally.failed, 0u) << tally.first;
-  }
+    });
   EXPECT_GT(convex, 1000u);
   EXPECT_GT(reflex, 1000u);
 }
@@ -658,35 +661,18 @@ TEST(DistanceFieldTest, sign_matches_even_odd_on_horizontal_rays_through_vertice
   // Points with exactly the y of a vertex: the crossing test's degenerate case, and for the
   // field points whose nearest feature is often that vertex.
   std::mt19937_64 rng(31);
-  for (const std::string& name : kModels)
-  {
-    SCOPED_TRACE(name);
-    const Model model = loadModel(name);
-    const DistanceField field(model);
-    const SignChecker checker(model, field);
-    DistanceField::Scratch scratch;
-    std::uniform_real_distribution<double> ux(model.bounds.min.x, model.bounds.max.x);
-    Tally tally;
-    for (std::size_t r = 0; r < model.regions.size(); ++r)
+  expectSignsMatchAroundRingVertices(
+    [&](const Model& model, const Ring& ring, std::size_t i, const auto& emit)
     {
-      for (const Ring& ring : model.regions[r].rings)
+      std::uniform_real_distribution<double> ux(model.bounds.min.x, model.bounds.max.x);
+      const Vec2 v = ring.points[i];
+      const double edge = strata::norm(ring.points[(i + 1) % ring.points.size()] - v);
+      for (const double x :
+        { v.x + 0.37 * edge, v.x - 0.37 * edge, v.x + 1.9 * edge, v.x - 1.9 * edge, ux(rng) })
       {
-        const std::size_t n = ring.points.size();
-        for (std::size_t i = 0; i < n; ++i)
-        {
-          const Vec2 v = ring.points[i];
-          const double edge = strata::norm(ring.points[(i + 1) % n] - v);
-          for (const double x :
-            { v.x + 0.37 * edge, v.x - 0.37 * edge, v.x + 1.9 * edge, v.x - 1.9 * edge, ux(rng) })
-          {
-            std::string message;
-            tally.add(checker.check(r, { x, v.y }, scratch, message), message);
-          }
-        }
+        emit({ x, v.y });
       }
-    }
-    EXPECT_EQ(tally.failed, 0u) << tally.first;
-  }
+    });
 }
 
 TEST(DistanceFieldTest, touching_loops_around_the_shared_vertex_in_eight_directions)
