@@ -7,6 +7,7 @@
 #include "GridSession.h"
 
 #include <vtkCellData.h>
+#include <vtkDataSet.h>
 #include <vtkFieldData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -39,7 +40,8 @@ int vtkAdaptive48Grid::FillOutputPortInformation(int, vtkInformation* info)
   return 1;
 }
 
-std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyData* input)
+std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyData* input,
+  const strata::Grid48Params& params)
 {
   std::ostringstream key;
   key << input << ' ' << input->GetMTime() << ' ' << this->Form << ' '
@@ -52,18 +54,14 @@ std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyDat
     {
       this->Session.reset();
       this->Session = std::make_shared<strata::GridSession>(vtkStrataMeshInput::ToRaw(input,
-        vtkStrataMeshInput::MakeSelection(this->Form, this->RegionArrayName,
-          this->LeftRegionArrayName, this->RightRegionArrayName)));
+        vtkStrataMeshInput::MakeSelection(this->Form,
+          this->RegionArrayName,
+          this->LeftRegionArrayName,
+          this->RightRegionArrayName)));
       this->SessionKey = key.str();
     }
     if (!this->Session->empty())
     {
-      strata::Grid48Params params;
-      params.maxLevel = this->MaxLevel;
-      params.localMaxLevel = this->LocalMaxLevel;
-      params.tolerance = this->Tolerance;
-      params.maxEdgeLength = this->MaximumEdgeLength;
-      params.minEdgeLength = this->MinimumEdgeLength;
       this->Session->refine(params, strata::ProgressReporter(this->ProgressCallback(), 0.0, 0.8));
     }
   }
@@ -76,17 +74,19 @@ std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::UpdateSession(vtkPolyDat
 }
 
 std::shared_ptr<strata::GridSession> vtkAdaptive48Grid::ExtractMesh(vtkPolyData* input,
+  vtkDataSet* target,
   strata::TriangleMesh& mesh,
   const std::function<void(strata::GridSession&, const strata::TriangleMesh&)>& more)
 {
-  if (!this->CheckProperties())
+  strata::Grid48Params params;
+  if (!this->CheckProperties() || !this->FillGridParams(target, params))
   {
     return nullptr;
   }
   std::shared_ptr<strata::GridSession> session;
   try
   {
-    session = this->UpdateSession(input);
+    session = this->UpdateSession(input, params);
     if (!session->empty())
     {
       mesh = session->extract(this->OutputLevel);
@@ -120,7 +120,8 @@ int vtkAdaptive48Grid::RequestData(vtkInformation*,
     return 0;
   }
   strata::TriangleMesh mesh;
-  const std::shared_ptr<strata::GridSession> session = this->ExtractMesh(input, mesh);
+  const std::shared_ptr<strata::GridSession> session =
+    this->ExtractMesh(input, vtkDataSet::GetData(inputVector[1], 0), mesh);
   if (!session)
   {
     return 0;
@@ -138,6 +139,10 @@ int vtkAdaptive48Grid::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "MaxLevel", used.maxLevel);
   vtkStrataMeshOutput::AddField(fd, "LocalMaxLevel", used.localMaxLevel);
   vtkStrataMeshOutput::AddField(fd, "Tolerance", used.tolerance);
+  if (used.targetEdgeLength)
+  {
+    vtkStrataMeshOutput::AddField(fd, "TargetMaxLevel", used.targetMaxLevel);
+  }
   vtkStrataMeshOutput::AddField(
     fd, "GridMemoryBytes", static_cast<double>(session->grid().memoryBytes()));
   this->UpdateProgress(1.0);

@@ -14,7 +14,9 @@
  * `MaxLevel`, `LocalMaxLevel`, `Tolerance` (the values used, automatic ones resolved),
  * `GridMemoryBytes`. The hierarchy is kept between updates: changing only OutputLevel
  * extracts another nested level without refining again, and raising a level resumes the
- * refinement.
+ * refinement. Input 1 (optional): a target edge length field (see vtkStrataMeshAlgorithm);
+ * the field data then also holds `TargetMaxLevel` (the level of its floor), and a new or
+ * modified field rebuilds the grid.
  *
  * @sa vtkClassify48Grid vtkStrataMeshAlgorithm
  */
@@ -32,6 +34,7 @@ class vtkUnstructuredGrid;
 namespace strata
 {
 class GridSession;
+struct Grid48Params;
 struct TriangleMesh;
 }
 
@@ -70,15 +73,18 @@ protected:
   bool CheckProperties() override;
 
   /// The session for this input and these parameters, reused when possible (throws what the
-  /// core throws, after dropping the session). Shared with vtkClassify48Grid.
-  std::shared_ptr<strata::GridSession> UpdateSession(vtkPolyData* input);
+  /// core throws, after dropping the session). `params`: from FillGridParams. Shared with
+  /// vtkClassify48Grid.
+  std::shared_ptr<strata::GridSession> UpdateSession(vtkPolyData* input,
+    const strata::Grid48Params& params);
 
-  /// The common part of RequestData, shared with vtkClassify48Grid: checks the properties,
-  /// updates the session and, unless the model is empty, extracts the mesh of OutputLevel into
-  /// `mesh` and runs `more` on it (further core work, under the same error handling); then
-  /// reports the session's warnings. Returns the session (empty for an empty model), or null
-  /// after reporting an error.
+  /// The common part of RequestData, shared with vtkClassify48Grid: checks the properties
+  /// and the target edge length field (input 1, `target`, may be null), updates the session and,
+  /// unless the model is empty, extracts the mesh of OutputLevel into `mesh` and runs `more` on it
+  /// (further core work, under the same error handling); then reports the session's warnings.
+  /// Returns the session (empty for an empty model), or null after reporting an error.
   std::shared_ptr<strata::GridSession> ExtractMesh(vtkPolyData* input,
+    vtkDataSet* target,
     strata::TriangleMesh& mesh,
     const std::function<void(strata::GridSession&, const strata::TriangleMesh&)>& more = nullptr);
 

@@ -7,6 +7,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSet.h>
 #include <vtkIdTypeArray.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
@@ -37,8 +38,9 @@ int vtkClassify48Grid::FillOutputPortInformation(int port, vtkInformation* info)
   return 1;
 }
 
-int vtkClassify48Grid::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkClassify48Grid::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* grid = vtkUnstructuredGrid::GetData(outputVector, 0);
@@ -51,6 +53,7 @@ int vtkClassify48Grid::RequestData(
   strata::TriangleMesh mesh;
   strata::Classification classes;
   const std::shared_ptr<strata::GridSession> session = this->ExtractMesh(input,
+    vtkDataSet::GetData(inputVector[1], 0),
     mesh,
     [&](strata::GridSession& s, const strata::TriangleMesh& m)
     {
@@ -96,8 +99,7 @@ int vtkClassify48Grid::RequestData(
   lines->SetData(offsets, connectivity);
   edges->SetLines(lines);
   edges->GetCellData()->AddArray(vtkStrataMeshOutput::MakeArray("EdgeClass", classes.edgeClass));
-  edges->GetCellData()->AddArray(
-    vtkStrataMeshOutput::MakeArray("EdgeRegion", classes.edgeRegion));
+  edges->GetCellData()->AddArray(vtkStrataMeshOutput::MakeArray("EdgeRegion", classes.edgeRegion));
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -8,6 +8,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataSet.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdTypeArray.h>
@@ -39,6 +40,7 @@ vtkPhysicalCompressionTriangulator::vtkPhysicalCompressionTriangulator()
   this->FeatureAngle = defaults.featureAngle;
   this->FlipDegenerate = defaults.flipDegenerate;
   this->Optimization = defaults.optimize;
+  this->BoundaryTolerance = defaults.boundaryTolerance;
 }
 
 vtkPhysicalCompressionTriangulator::~vtkPhysicalCompressionTriangulator() = default;
@@ -114,8 +116,9 @@ void SetBoundary(vtkPolyData* output, const strata::MesherResult& result)
 
 } // namespace
 
-int vtkPhysicalCompressionTriangulator::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkPolyData* input = vtkPolyData::GetData(inputVector[0], 0);
   vtkUnstructuredGrid* mesh = vtkUnstructuredGrid::GetData(outputVector, 0);
@@ -131,11 +134,10 @@ int vtkPhysicalCompressionTriangulator::RequestData(
   }
 
   strata::MesherParams params;
-  params.grid.maxLevel = this->MaxLevel;
-  params.grid.localMaxLevel = this->LocalMaxLevel;
-  params.grid.tolerance = this->Tolerance;
-  params.grid.maxEdgeLength = this->MaximumEdgeLength;
-  params.grid.minEdgeLength = this->MinimumEdgeLength;
+  if (!this->FillGridParams(vtkDataSet::GetData(inputVector[1], 0), params.grid))
+  {
+    return 0;
+  }
   strata::CompressionParams& c = params.compression;
   c.springConfiguration = static_cast<strata::SpringConfiguration>(this->SpringConfiguration);
   c.springStiffness = this->SpringStiffness;
@@ -147,15 +149,18 @@ int vtkPhysicalCompressionTriangulator::RequestData(
   c.featureAngle = this->FeatureAngle;
   c.flipDegenerate = this->FlipDegenerate != 0;
   c.optimize = this->Optimization != 0;
+  c.boundaryTolerance = this->BoundaryTolerance;
 
   strata::MesherResult result;
   try
   {
     result = strata::triangulate(vtkStrataMeshInput::ToRaw(input,
                                    vtkStrataMeshInput::MakeSelection(this->Form,
-                                     this->RegionArrayName, this->LeftRegionArrayName,
+                                     this->RegionArrayName,
+                                     this->LeftRegionArrayName,
                                      this->RightRegionArrayName)),
-      params, this->ProgressCallback());
+      params,
+      this->ProgressCallback());
   }
   catch (const std::exception& e)
   {
@@ -204,6 +209,14 @@ int vtkPhysicalCompressionTriangulator::RequestData(
   vtkStrataMeshOutput::AddField(fd, "MaxBoundaryDeviation", s.maxBoundaryDeviation);
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
+  vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));
+  auto unresolved = vtkSmartPointer<vtkIntArray>::New();
+  unresolved->SetName("UnresolvedRegions");
+  for (int id : result.unresolvedRegions)
+  {
+    unresolved->InsertNextValue(id);
+  }
+  fd->AddArray(unresolved);
   for (const auto& [stage, seconds] : s.secondsPerStage)
   {
     vtkStrataMeshOutput::AddField(fd, StageFieldName(stage).c_str(), seconds);
@@ -227,6 +240,7 @@ bool vtkPhysicalCompressionTriangulator::CheckProperties()
   valid &= Range::Check(this, "PushCriterion", this->PushCriterion, 0, 2);
   valid &= Range::Check(this, "PushVelocity", this->PushVelocity, 0.0, 10.0, Range::OPEN);
   valid &= Range::Check(this, "FeatureAngle", this->FeatureAngle, 0.0, 180.0);
+  valid &= Range::Check(this, "BoundaryTolerance", this->BoundaryTolerance, 0.0, 10.0);
   return valid;
 }
 
@@ -243,4 +257,5 @@ void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "FlipDegenerate: " << this->FlipDegenerate << "\n";
   os << indent << "Optimization: " << this->Optimization << "\n";
+  os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
 }

@@ -173,6 +173,18 @@ public:
   vtkBooleanMacro(Optimization, vtkTypeBool);
   ///@}
 
+  ///@{
+  /**
+   * Beyond the paper, part of the Optimization: an edge of the approximated boundary whose
+   * curve lies farther from it than BoundaryTolerance times the edge's length (a corner the
+   * compression cut, a bulge between two vertices) is split at the curve's farthest point,
+   * when the new triangles keep angles in [15, 140] degrees. The number of splits is in the
+   * field data (BoundarySplits). Range [0, 10], dimensionless; default 0.25; 0 = off.
+   */
+  vtkSetMacro(BoundaryTolerance, double);
+  vtkGetMacro(BoundaryTolerance, double);
+  ///@}
+
 protected:
   vtkPhysicalCompressionTriangulator();
   ~vtkPhysicalCompressionTriangulator() override;
@@ -192,6 +204,7 @@ protected:
   double FeatureAngle;
   vtkTypeBool FlipDegenerate;
   vtkTypeBool Optimization;
+  double BoundaryTolerance;
 
 private:
   vtkPhysicalCompressionTriangulator(const vtkPhysicalCompressionTriangulator&) = delete;

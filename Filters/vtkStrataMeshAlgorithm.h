@@ -9,6 +9,9 @@
  * cells with region arrays (Loops: `RegionId`; Shared curves: `LeftRegion`/`RightRegion`).
  * Subclasses choose their outputs.
  *
+ * Input 1 (optional, any vtkDataSet): a target edge length field, see
+ * SetTargetEdgeLengthConnection.
+ *
  * Property ranges: the setters keep the value given, even out of its documented range (they
  * do not clamp); the next update then fails with an error that names the property, its value
  * and the range, e.g. `MaxLevel = 99 is out of range [-1, 60]`, and produces empty outputs.
@@ -21,7 +24,16 @@
 #include "StrataMeshFiltersModule.h" // for export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <cstdint>    // for std::uint64_t
 #include <functional> // for std::function
+#include <string>     // for std::string
+
+class vtkAlgorithmOutput;
+class vtkDataSet;
+namespace strata
+{
+struct Grid48Params;
+}
 
 class STRATAMESHFILTERS_EXPORT vtkStrataMeshAlgorithm : public vtkPolyDataAlgorithm
 {
@@ -110,9 +122,66 @@ public:
   vtkGetMacro(MinimumEdgeLength, double);
   ///@}
 
+  ///@{
+  /**
+   * Target edge length field (input 1, optional; default: none): any vtkDataSet whose point
+   * array TargetEdgeLengthArray gives the wanted length of the grid triangles' longest edge,
+   * in model units, in the plane of the model (x, y; a flat dataset off z = 0 is read in its
+   * own plane). Grid triangles are refined while their longest edge is longer than the
+   * smallest target at their corners and centroid, down to a floor (MinimumEdgeLength when
+   * set, otherwise 4 levels finer than LocalMaxLevel, or than its usual automatic value when
+   * the field coarsened MaxLevel). With MaxLevel automatic (and no MaximumEdgeLength) the
+   * field can also coarsen: MaxLevel becomes the coarser of the usual automatic level and
+   * the coarsest level whose longest edge is not longer than the field's largest value.
+   * Neighbouring grid triangles differ by at most one level, so their longest edges differ
+   * by at most a factor 1.41 (the grading); the compression stretches that a little.
+   *
+   * - A dataset with 2-D (or 3-D) cells, e.g. an image or a triangulated surface, is
+   *   interpolated linearly inside its cells; outside them there is no wish.
+   * - A dataset without such cells (points, vertex cells, lines: e.g. well locations) gives
+   *   h(x) = min over its points p of (h_p + TargetEdgeLengthGrading * |x - p|), distances
+   *   in the xy plane: the size grows linearly away from every point.
+   *
+   * Values must be finite and > 0 (the request fails naming the first point at fault).
+   * SetTargetEdgeLengthConnection is the pipeline way, SetTargetEdgeLengthData the
+   * data way; a null argument removes the field.
+   */
+  void SetTargetEdgeLengthConnection(vtkAlgorithmOutput* output);
+  void SetTargetEdgeLengthData(vtkDataSet* data);
+  ///@}
+
+  ///@{
+  /**
+   * Point array of the target edge length field. Default `TargetEdgeLength`; when the
+   * dataset has no array of that name but exactly one point array, of one component, that
+   * array is used.
+   */
+  vtkSetStringMacro(TargetEdgeLengthArray);
+  vtkGetStringMacro(TargetEdgeLengthArray);
+  ///@}
+
+  ///@{
+  /**
+   * Grading of a points-only target edge length field, dimensionless: the size grows by this
+   * many model units per model unit of distance from a point. Default 0.5; range (0, 10].
+   * Ignored for a field with 2-D cells (interpolated).
+   */
+  vtkSetMacro(TargetEdgeLengthGrading, double);
+  vtkGetMacro(TargetEdgeLengthGrading, double);
+  ///@}
+
 protected:
   vtkStrataMeshAlgorithm();
   ~vtkStrataMeshAlgorithm() override;
+
+  /// Input 0: vtkPolyData (the model); input 1: vtkDataSet, optional (the target field).
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+  /// The grid parameters of the properties (levels, tolerance, edge lengths) and the target
+  /// edge length field of `target` (input 1, may be null) into `params`. Reports an error
+  /// (vtkErrorMacro, naming the array or the point at fault) and returns false when the
+  /// field is unusable.
+  bool FillGridParams(vtkDataSet* target, strata::Grid48Params& params);
 
   /// Progress and abort wiring for the core: UpdateProgress, and false once CheckAbort().
   std::function<bool(double, const char*)> ProgressCallback();
@@ -131,10 +200,17 @@ protected:
   double Tolerance = 0.0;
   double MaximumEdgeLength = 0.0;
   double MinimumEdgeLength = 0.0;
+  char* TargetEdgeLengthArray = nullptr;
+  double TargetEdgeLengthGrading = 0.5;
 
 private:
   vtkStrataMeshAlgorithm(const vtkStrataMeshAlgorithm&) = delete;
   void operator=(const vtkStrataMeshAlgorithm&) = delete;
+
+  // Identifies the target field for resumable grids: incremented whenever the key (the
+  // dataset, its MTime, the array name and the grading) changes.
+  std::string TargetKey;
+  std::uint64_t TargetId = 0;
 };
 
 #endif

@@ -71,6 +71,18 @@
 //    onto stop points, no face changing region), when the smallest angle of its faces grows.
 //    Passes repeat optimizationPasses times. No move or flip lowers the local smallest
 //    angle, and region boundaries stay on the vertices the compression put on curves.
+//    Between (a) and (b), boundary refinement: an edge between faces of different regions
+//    whose two ends are on one chain (the chain whose sides carry those two regions, walked in
+//    the direction that keeps them on the right sides) is compared with the chain between its
+//    ends; if a chain point lies farther than boundaryTolerance * h from the edge (a corner
+//    the compression cut, a bulge between two vertices), the edge and its two faces are split
+//    at the farthest chain point (or, if that would invert a face, at the middle of the chain
+//    piece), the new vertex is on the curve (pinned on a stop point) and each new face keeps
+//    the region of its side (a split whose faces would have an angle below 15 or above 140
+//    degrees is not made). Up to 8 rounds. The simulation is over by then: new vertices and
+//    edges carry no springs. Smoothing then slides no curve vertex so that one of its boundary
+//    edges leaves the tolerance (or gets farther out of it), unless an angle around the vertex
+//    is below 20 degrees.
 #include "Compression.h"
 
 #include "Errors.h"
@@ -106,6 +118,7 @@ constexpr int kWakeInterval = 10;       // steps between two updates of the awak
 constexpr double kSleep = 3e-2;         // relative move in kWakeInterval steps that keeps awake
 constexpr double kQuietFraction = 5e-3; // fewer moving vertices than this fraction: stop
 constexpr double kGoodAngle = 30.0;     // optimization leaves stars and pairs above this alone
+constexpr double kPoorAngle = 20.0;     // smoothing below this may leave the boundary tolerance
 constexpr int kOnCurve = -2;            // vertex region of a vertex on a curve
 
 void checkRange(bool ok, const char* name, double value, const char* range)
@@ -168,6 +181,10 @@ void validate(const CompressionParams& p)
     "OptimizationPasses",
     p.optimizationPasses,
     "[0, 100]");
+  checkRange(p.boundaryTolerance >= 0.0 && p.boundaryTolerance <= 10.0,
+    "BoundaryTolerance",
+    p.boundaryTolerance,
+    "[0, 10]");
 }
 
 //------------------------------------------------------------------------------
@@ -735,6 +752,22 @@ private:
   std::size_t optimizeFlips();
   std::size_t smooth();
   double starMinAngle(int i, Vec2 p) const;
+  // boundary refinement
+  struct ChainPiece
+  {
+    int chain = -1;
+    double from = 0.0, to = 0.0; // chain parameters (segment + t) of the two ends
+    bool forward = true;         // walk direction from `from` to `to`
+    double deviation = -1.0;     // largest distance of a chain point between them to the edge
+    int farthest = -1;           // that chain point
+  };
+  std::vector<Location> locationsOf(int i) const;
+  ChainPiece boundaryPiece(int t, int k) const;
+  Location pieceMiddle(const ChainPiece& piece) const;
+  bool splitBoundaryEdge(int t, int k, const Location& at, bool pin);
+  bool followsCurves(int i, Vec2 p, const Location& l);
+  std::size_t refineBoundary();
+  bool active(int i) const { return i < this->NumActive || i >= this->FirstAdded; }
   // --- shared
   bool flipValid(int t, int k) const;
   bool tryFlip(int t, int k, bool degenerate);
@@ -811,6 +844,11 @@ private:
   std::vector<std::uint8_t> Claimed; // per model node: a vertex is (going) there
   std::vector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push
   std::vector<Vec2> Candidates;             // smoothing scratch
+  // After the simulation (optimization): local edge length per vertex, and the first local id
+  // of the vertices inserted by the boundary refinement (they are simulated ones too).
+  std::vector<double> H;
+  int FirstAdded = std::numeric_limits<int>::max();
+  bool Detached = false; // springs no longer follow the mesh (no more simulation)
 };
 
 //------------------------------------------------------------------------------
@@ -1735,7 +1773,10 @@ void Compressor::flip(int t, int k)
   };
   relink(nAD, u, t);
   relink(nBC, t, u);
-  this->Sys->flip(eAB, { c, d }, t, this->Tri[t], u, this->Tri[u]);
+  if (!this->Detached)
+  {
+    this->Sys->flip(eAB, { c, d }, t, this->Tri[t], u, this->Tri[u]);
+  }
   this->RestTwice[t] = this->twiceArea(t);
   this->RestTwice[u] = this->twiceArea(u);
   this->MinTwice[t] = kCollapse * this->RestTwice[t];
@@ -2117,12 +2158,12 @@ std::size_t Compressor::snapBoundaryVertices()
     for (int v : off)
     {
       this->poll(static_cast<std::size_t>(&v - off.data()));
-      if (v >= this->NumActive)
+      if (!this->active(v))
       {
         continue; // halo vertices do not move
       }
       const Vec2 xv = this->Sys->positions()[v];
-      const double h = this->Sys->localLength(v);
+      const double h = this->H[v];
       // Candidate places: the closest point (or the junction a push was heading for), the
       // push target, and half and a quarter of an edge length beside them; nearest first.
       std::vector<Location> places;
@@ -2173,7 +2214,7 @@ std::size_t Compressor::snapBoundaryVertices()
         {
           for (int w : this->Tri[this->StarItems[s]])
           {
-            if (w != v && w < this->NumActive && (this->St[w] == Free || this->St[w] == Rail))
+            if (w != v && this->active(w) && (this->St[w] == Free || this->St[w] == Rail))
             {
               ring.push_back(w);
             }
@@ -2313,9 +2354,13 @@ std::size_t Compressor::smooth()
   static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
   std::vector<Vec2>& x = this->Sys->positions();
-  for (int i = 0; i < this->NumActive; ++i)
+  for (int i = 0; i < static_cast<int>(this->Global.size()); ++i)
   {
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
+    if (!this->active(i))
+    {
+      continue;
+    }
     if (s1 == s0 || !(this->St[i] == Free || this->St[i] == Rail))
     {
       continue;
@@ -2397,7 +2442,7 @@ std::size_t Compressor::smooth()
     }
     // A curve vertex slides along its chain (not onto a stop point); faces with every corner
     // on curves take the region of their barycentre and must keep it.
-    const double h = this->Sys->localLength(i);
+    const double h = this->H[i];
     double bestM = m0 * (1.0 + 1e-9) + 1e-12;
     Location bestLoc;
     bool found = false;
@@ -2422,7 +2467,7 @@ std::size_t Compressor::smooth()
       continue;
     }
     const Vec2 p = this->Rails.position(bestLoc);
-    bool kept = true;
+    bool kept = this->followsCurves(i, p, bestLoc);
     for (int s = s0; s < s1 && kept; ++s)
     {
       const int t = this->StarItems[s];
@@ -2444,12 +2489,375 @@ std::size_t Compressor::smooth()
   return moves;
 }
 
+//------------------------------------------------------------------------------
+// Boundary refinement.
+
+// Rail locations of curve vertex i: its own, or every location of the chain point it is on
+// (a junction lies on several chains).
+std::vector<BoundaryRails::Location> Compressor::locationsOf(int i) const
+{
+  const Location& l = this->Loc[i];
+  const int point = this->Rails.pointAt(l);
+  if (point >= 0)
+  {
+    return this->Rails.locationsOfNode(this->Rails.chain(l.chain).nodes[point]);
+  }
+  return { l };
+}
+
+// The chain piece that edge k of face t (between two faces of different regions, both ends on
+// curves) stands for, with the largest distance of its points to the edge; deviation < 0 when
+// no chain joins the two ends with the faces' regions on its sides.
+Compressor::ChainPiece Compressor::boundaryPiece(int t, int k) const
+{
+  ChainPiece best;
+  const int u = this->Nbr[t][k];
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
+  const std::vector<Vec2>& x = this->Sys->positions();
+  for (const Location& la : this->locationsOf(a))
+  {
+    for (const Location& lb : this->locationsOf(b))
+    {
+      if (la.chain != lb.chain)
+      {
+        continue;
+      }
+      const BoundaryRails::Chain& c = this->Rails.chain(la.chain);
+      const int n = static_cast<int>(c.numberOfSegments());
+      const double sa = la.segment + la.t, sb = lb.segment + lb.t;
+      for (const bool forward : { true, false })
+      {
+        // Walking a -> b along the chain, face t (left of a -> b) must be on the walk's left.
+        const int left = forward ? c.left : c.right, right = forward ? c.right : c.left;
+        if (this->Tag[t] != left || this->Tag[u] != right)
+        {
+          continue;
+        }
+        double travel = forward ? sb - sa : sa - sb;
+        if (c.closed)
+        {
+          travel = std::fmod(travel + n, static_cast<double>(n));
+        }
+        if (!(travel > 0.0))
+        {
+          continue;
+        }
+        ChainPiece piece;
+        piece.chain = la.chain;
+        piece.from = sa;
+        piece.to = sb;
+        piece.forward = forward;
+        piece.deviation = 0.0;
+        // Chain points strictly between the two ends (at most a bounded number of them).
+        const double first = forward ? std::floor(sa) + 1.0 : std::ceil(sa) - 1.0;
+        for (int step = 0; step < 100000; ++step)
+        {
+          const double s = forward ? first + step : first - step;
+          if ((forward ? s - sa : sa - s) >= travel)
+          {
+            break;
+          }
+          const int p = ((static_cast<int>(s) % n) + n) % n + (!c.closed && s == n ? n : 0);
+          const double d = std::sqrt(pointSegmentDistance2(c.points[p], x[a], x[b]));
+          if (d > piece.deviation)
+          {
+            piece.deviation = d;
+            piece.farthest = p;
+          }
+        }
+        if (best.deviation < 0.0 || piece.deviation < best.deviation)
+        {
+          best = piece;
+        }
+      }
+    }
+  }
+  return best;
+}
+
+// The location half way (in arc length) along a chain piece.
+BoundaryRails::Location Compressor::pieceMiddle(const ChainPiece& piece) const
+{
+  const BoundaryRails::Chain& c = this->Rails.chain(piece.chain);
+  const int n = static_cast<int>(c.numberOfSegments());
+  const auto at = [&](double s)
+  {
+    s = c.closed ? std::fmod(std::fmod(s, n) + n, static_cast<double>(n)) : s;
+    const int seg = std::min(static_cast<int>(s), n - 1);
+    const Vec2 p = c.points[seg], q = c.points[(seg + 1) % c.points.size()];
+    return p + (s - seg) * (q - p);
+  };
+  double travel = piece.forward ? piece.to - piece.from : piece.from - piece.to;
+  if (c.closed)
+  {
+    travel = std::fmod(travel + n, static_cast<double>(n));
+  }
+  // Break points of the walk: the two ends and the chain points between.
+  std::vector<double> params{ piece.from };
+  const double first = piece.forward ? std::floor(piece.from) + 1.0 : std::ceil(piece.from) - 1.0;
+  for (int step = 0; step < 100000; ++step)
+  {
+    const double s = piece.forward ? first + step : first - step;
+    if ((piece.forward ? s - piece.from : piece.from - s) >= travel)
+    {
+      break;
+    }
+    params.push_back(s);
+  }
+  params.push_back(piece.forward ? piece.from + travel : piece.from - travel);
+  double length = 0.0;
+  for (std::size_t i = 1; i < params.size(); ++i)
+  {
+    length += norm(at(params[i]) - at(params[i - 1]));
+  }
+  double half = 0.5 * length;
+  double s = params.back();
+  for (std::size_t i = 1; i < params.size(); ++i)
+  {
+    const double l = norm(at(params[i]) - at(params[i - 1]));
+    if (l >= half && l > 0.0)
+    {
+      s = params[i - 1] + (params[i] - params[i - 1]) * (half / l);
+      break;
+    }
+    half -= l;
+  }
+  if (c.closed)
+  {
+    s = std::fmod(std::fmod(s, n) + n, static_cast<double>(n));
+  }
+  Location l;
+  l.chain = piece.chain;
+  l.segment = std::min(static_cast<int>(s), n - 1);
+  l.t = std::min(1.0, s - l.segment);
+  return l;
+}
+
+// Splits edge k of face t (a, b) and its neighbour across it at rail location `at`:
+// (a, b, c) + (b, a, d) -> (a, w, c) + (w, b, c) + (b, w, d) + (w, a, d), each new face keeping
+// the region of its side. Refused (false) when a new face would have an angle below 15
+// degrees or above 140 degrees (the optimization that follows could not mend it).
+bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
+{
+  static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
+  static const double kMaxCos = std::cos(140.0 * 3.14159265358979323846 / 180.0);
+  std::vector<Vec2>& x = this->Sys->positions();
+  const int u = this->Nbr[t][k];
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
+  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
+  const int d = this->Tri[u][(j + 2) % 3];
+  const Vec2 w = this->Rails.position(at);
+  const std::array<std::array<Vec2, 3>, 4> faces{
+    { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
+  };
+  for (const std::array<Vec2, 3>& f : faces)
+  {
+    if (!(orient2d(f[0], f[1], f[2]) > 0.0) || minAngleSine(f[0], f[1], f[2]) < floorSine ||
+      dot(f[1] - f[0], f[2] - f[0]) < kMaxCos * norm(f[1] - f[0]) * norm(f[2] - f[0]) ||
+      dot(f[0] - f[1], f[2] - f[1]) < kMaxCos * norm(f[0] - f[1]) * norm(f[2] - f[1]) ||
+      dot(f[0] - f[2], f[1] - f[2]) < kMaxCos * norm(f[0] - f[2]) * norm(f[1] - f[2]))
+    {
+      return false;
+    }
+  }
+  // The new vertex.
+  const int i = static_cast<int>(this->Global.size());
+  const int g = static_cast<int>(this->Result.points.size());
+  this->Global.push_back(g);
+  this->LocalOf.push_back(i);
+  this->Result.points.push_back(w);
+  this->Result.vertexState.push_back(pin ? VertexPinned : VertexOnCurve);
+  this->Points.push_back(w);
+  this->Candidate.push_back(0);
+  this->Push.push_back(0);
+  this->Distance.push_back(0.0);
+  this->JunctionOf.push_back(-1);
+  this->JunctionTarget.push_back(-1);
+  x.push_back(w);
+  this->St.push_back(pin ? Pinned : Rail);
+  this->Target.push_back(w);
+  this->Loc.push_back(at);
+  this->FirstTarget.push_back(at);
+  this->PinOnArrival.push_back(0);
+  this->Stuck.push_back(0);
+  this->Retargets.push_back(0);
+  this->PushSteps.push_back(0);
+  this->Budget.push_back(0);
+  this->VRegion.push_back(kOnCurve);
+  this->H.push_back(0.5 * (this->H[a] + this->H[b]));
+  if (pin)
+  {
+    const int point = this->Rails.pointAt(at);
+    if (point >= 0)
+    {
+      this->Claimed[this->Rails.chain(at.chain).nodes[point]] = 1;
+    }
+  }
+  // The two new faces.
+  const int t2 = static_cast<int>(this->Tri.size()), u2 = t2 + 1;
+  const int nBC = this->Nbr[t][(k + 1) % 3], nCA = this->Nbr[t][(k + 2) % 3];
+  const int nAD = this->Nbr[u][(j + 1) % 3], nDB = this->Nbr[u][(j + 2) % 3];
+  this->Tri[t] = { a, i, c };
+  this->Nbr[t] = { u2, t2, nCA };
+  this->Tri[u] = { b, i, d };
+  this->Nbr[u] = { t2, u2, nDB };
+  this->Tri.push_back({ i, b, c });
+  this->Nbr.push_back({ u, nBC, t });
+  this->Tri.push_back({ i, a, d });
+  this->Nbr.push_back({ t, nAD, u });
+  for (const std::pair<int, int>& relink : { std::make_pair(nBC, t), std::make_pair(nAD, u) })
+  {
+    if (relink.first >= 0)
+    {
+      for (int& m : this->Nbr[relink.first])
+      {
+        m = m == relink.second ? (relink.second == t ? t2 : u2) : m;
+      }
+    }
+  }
+  for (const int f : { t, u })
+  {
+    this->TriEdge[f] = { -1, -1, -1 };
+  }
+  this->TriEdge.push_back({ -1, -1, -1 });
+  this->TriEdge.push_back({ -1, -1, -1 });
+  for (const std::pair<int, int>& added : { std::make_pair(t2, t), std::make_pair(u2, u) })
+  {
+    this->TriGlobal.push_back(static_cast<int>(this->Result.triangles.size()));
+    this->Result.triangles.push_back({});
+    this->Result.triangleLevel.push_back(this->Level[added.second]);
+    this->Result.triangleRegion.push_back(this->Tag[added.second]);
+    this->Level.push_back(this->Level[added.second]);
+    this->Tag.push_back(this->Tag[added.second]);
+    this->RestTwice.push_back(0.0);
+    this->MinTwice.push_back(0.0);
+  }
+  for (const int f : { t, u, t2, u2 })
+  {
+    this->RestTwice[f] = this->twiceArea(f);
+    this->MinTwice[f] = kCollapse * this->RestTwice[f];
+  }
+  return true;
+}
+
+// Whether moving curve vertex i to p (rail location l) keeps its boundary edges within the
+// boundary tolerance of their chain pieces, or at least no farther out of it than they are.
+// Always true without boundary refinement, and for a vertex with an angle below kPoorAngle
+// around it (the worst angles come first).
+bool Compressor::followsCurves(int i, Vec2 p, const Location& l)
+{
+  static const double poorSine = std::sin(kPoorAngle * 3.14159265358979323846 / 180.0);
+  if (!this->Detached || this->starMinAngle(i, this->Sys->positions()[i]) < poorSine)
+  {
+    return true;
+  }
+  // Relative deviation of the worst boundary edge at i (0 when none is out of tolerance).
+  std::vector<Vec2>& x = this->Sys->positions();
+  const auto worst = [&]()
+  {
+    double w = 0.0;
+    for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
+    {
+      const int t = this->StarItems[s];
+      for (int k = 0; k < 3; ++k)
+      {
+        const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], u = this->Nbr[t][k];
+        if ((a == i || b == i) && u >= 0 && this->Tag[u] != this->Tag[t] && this->onCurve(a) &&
+          this->onCurve(b))
+        {
+          const double relative = this->boundaryPiece(t, k).deviation / norm(x[b] - x[a]);
+          w = std::max(w, relative > this->Params.boundaryTolerance ? relative : 0.0);
+        }
+      }
+    }
+    return w;
+  };
+  const double before = worst();
+  const Vec2 keepX = x[i];
+  const Location keepL = this->Loc[i];
+  x[i] = p;
+  this->Loc[i] = l;
+  const double after = worst();
+  x[i] = keepX;
+  this->Loc[i] = keepL;
+  return after <= before;
+}
+
+std::size_t Compressor::refineBoundary()
+{
+  if (!(this->Params.boundaryTolerance > 0.0))
+  {
+    return 0;
+  }
+  this->Detached = true;
+  if (this->FirstAdded == std::numeric_limits<int>::max())
+  {
+    this->FirstAdded = static_cast<int>(this->Global.size());
+  }
+  std::size_t splits = 0;
+  for (int round = 0; round < 8; ++round)
+  {
+    std::size_t now = 0;
+    const int nt = static_cast<int>(this->Tri.size());
+    for (int t = 0; t < nt; ++t)
+    {
+      this->poll(static_cast<std::size_t>(t));
+      for (int k = 0; k < 3; ++k)
+      {
+        const int u = this->Nbr[t][k];
+        const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
+        if (u < 0 || u >= nt || u < t || this->Tag[u] == this->Tag[t] || !this->onCurve(a) ||
+          !this->onCurve(b))
+        {
+          continue;
+        }
+        const ChainPiece piece = this->boundaryPiece(t, k);
+        const double tolerance = this->Params.boundaryTolerance *
+          norm(this->Sys->positions()[b] - this->Sys->positions()[a]);
+        if (!(piece.deviation > tolerance) || piece.farthest < 0)
+        {
+          continue;
+        }
+        const BoundaryRails::Chain& c = this->Rails.chain(piece.chain);
+        const int p = piece.farthest;
+        Location far;
+        far.chain = piece.chain;
+        far.segment = c.closed || p < static_cast<int>(c.numberOfSegments()) ? p : p - 1;
+        far.t = far.segment == p ? 0.0 : 1.0;
+        bool split = this->splitBoundaryEdge(t, k, far, this->Rails.isStop(piece.chain, p));
+        if (!split)
+        {
+          const Location middle = this->pieceMiddle(piece);
+          const int point = this->Rails.pointAt(middle);
+          split = this->splitBoundaryEdge(
+            t, k, middle, point >= 0 && this->Rails.isStop(piece.chain, point));
+        }
+        if (split)
+        {
+          ++now;
+          break;
+        }
+      }
+    }
+    splits += now;
+    if (now == 0)
+    {
+      break;
+    }
+  }
+  if (splits > 0)
+  {
+    this->rebuildStars();
+  }
+  return splits;
+}
+
 void Compressor::writeBack()
 {
   // Faces outside the simulated zone did not move and no boundary crosses their edges (their
   // corners are no candidates), so their corners lie in one region: they take it, even when
   // a whole island smaller than the face lies inside (aliasing, paper 6.6).
-  for (std::size_t t = 0; t < this->Result.triangles.size(); ++t)
+  for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
   {
     this->poll(t);
     this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
@@ -2468,8 +2876,12 @@ void Compressor::writeBack()
     this->Result.triangleLevel[g] = this->Level[t];
     this->Result.triangleRegion[g] = this->Tag[t];
   }
-  for (int i = 0; i < this->NumActive; ++i)
+  for (int i = 0; i < static_cast<int>(this->Global.size()); ++i)
   {
+    if (!this->active(i))
+    {
+      continue;
+    }
     std::int8_t s = VertexFree;
     switch (this->St[i])
     {
@@ -2521,7 +2933,13 @@ void Compressor::run()
     this->At = 0.8;
     this->Stage = "optimizing the mesh";
     this->Progress.report(this->At, this->Stage);
+    this->H.resize(this->Global.size());
+    for (std::size_t i = 0; i < this->H.size(); ++i)
+    {
+      this->H[i] = this->Sys->localLength(static_cast<int>(i));
+    }
     this->Result.snappedVertices = this->snapBoundaryVertices();
+    this->Result.boundarySplits = this->refineBoundary();
     for (int pass = 0; pass < this->Params.optimizationPasses; ++pass)
     {
       this->At = 0.8 + 0.2 * pass / this->Params.optimizationPasses;
@@ -2575,6 +2993,7 @@ CompressionResult compress(const TriangleMesh& grid,
   }
   CompressionResult result;
   result.points = grid.points;
+  result.firstInsertedPoint = np;
   result.triangles = grid.triangles;
   result.triangleLevel =
     grid.triangleLevel.size() == nt ? grid.triangleLevel : std::vector<int>(nt, 0);

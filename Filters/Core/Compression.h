@@ -75,6 +75,13 @@ struct CompressionParams
   bool optimize = true;
   /// Rounds of (flip pass, smoothing pass) of the optimization. Range [0, 100].
   int optimizationPasses = 6;
+  /// Beyond the paper, part of the optimization: an edge of the approximated boundary whose
+  /// curve (the part of the chain between its two end vertices) lies farther than this times
+  /// the local edge length h from it is split at the curve's farthest point (a corner the
+  /// compression cut, a bulge between two vertices), until every boundary edge follows its
+  /// curve within this distance or cannot be split (the new triangles would be inverted).
+  /// Relative to h. Range [0, 10]; 0 = no boundary refinement.
+  double boundaryTolerance = 0.25;
 };
 
 /// Validates params (ParameterError naming the parameter and its range).
@@ -159,16 +166,20 @@ struct CompressionResult
   std::vector<int> triangleLevel;            ///< grid level (a flipped pair: the finer of both)
   /// Section 5 face classification: region of each triangle's barycentre (-1 exterior).
   std::vector<int> triangleRegion;
-  std::vector<std::int8_t> vertexState;     ///< CompressedVertex per point
-  int iterations = 0;                       ///< simulation steps run
-  std::size_t simulatedVertices = 0;        ///< vertices in the simulated zone
-  std::size_t pushedVertices = 0;           ///< vertices marked to be pushed
-  std::size_t arrivedVertices = 0;          ///< of those, reached the boundary in the simulation
-  std::size_t snappedVertices = 0;          ///< moved onto a curve after the simulation
-  std::size_t junctionVertices = 0;         ///< vertices placed on junctions
-  std::size_t flips = 0;                    ///< degeneracy flips (6.5)
-  std::size_t optimizationFlips = 0;        ///< flips of the quality pass
-  std::size_t smoothingMoves = 0;           ///< accepted smoothing moves
+  std::vector<std::int8_t> vertexState; ///< CompressedVertex per point
+  int iterations = 0;                   ///< simulation steps run
+  std::size_t simulatedVertices = 0;    ///< vertices in the simulated zone
+  std::size_t pushedVertices = 0;       ///< vertices marked to be pushed
+  std::size_t arrivedVertices = 0;      ///< of those, reached the boundary in the simulation
+  std::size_t snappedVertices = 0;      ///< moved onto a curve after the simulation
+  std::size_t junctionVertices = 0;     ///< vertices placed on junctions
+  std::size_t flips = 0;                ///< degeneracy flips (6.5)
+  std::size_t optimizationFlips = 0;    ///< flips of the quality pass
+  std::size_t smoothingMoves = 0;       ///< accepted smoothing moves
+  std::size_t boundarySplits = 0;       ///< boundary edges split onto their curve
+  /// Points [firstInsertedPoint, points.size()) were inserted by the boundary refinement
+  /// (they have no grid position); the others are the grid's points.
+  std::size_t firstInsertedPoint = 0;
   std::size_t offCurveBoundaryVertices = 0; ///< vertices of the region boundary not on a curve
   std::size_t degenerateTriangles = 0;      ///< triangles of zero or negative area left (0)
   std::vector<std::pair<std::string, double>> secondsPerStage;

@@ -69,6 +69,22 @@
 //      maxLevel, localMaxLevel and junctionMaxLevel (Grid48Params, resolveParams): no
 //      criterion splits beyond its level, and conforming splits only ever split coarser
 //      triangles, so no leaf is finer.
+//  (f) target edge length field (l < targetMaxLevel, only with params.targetEdgeLength): T's
+//      hypotenuse is longer than the smallest target at its corners and its centroid. Corner
+//      values are cached per vertex (refiner-local, so the field is evaluated about once per
+//      vertex plus once per tested triangle). The centroid catches a small-target spot
+//      inside T (it is h / 6 from the hypotenuse midpoint, which becomes the next vertex);
+//      a spot smaller than T that misses the four samples is not seen, which for a smooth
+//      sizing field (an interpolated image, or the graded law of points) only shifts the
+//      refinement by a level. The floor targetMaxLevel (default localMaxLevel + 4, or the
+//      cap of minEdgeLength) bounds the memory of a field asking for tiny edges; when the
+//      field coarsened an automatic maxLevel, the floor stays 8 levels below the usual
+//      automatic level, so that coarsening at depth does not limit refinement near wells. Grading:
+//      conformity keeps edge neighbours within one level, i.e. hypotenuses within sqrt(2).
+//      The field can also coarsen: with maxLevel automatic its level is the coarser of the
+//      usual one and that of the largest target (resolveParams), so the boundary criteria
+//      (a)-(d) stop earlier where the field asks for large triangles, and (f) refines where
+//      it asks for small ones.
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
 // shared by two loops in the Loops form is counted once) chained through the nodes where
 // exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
@@ -161,6 +177,46 @@ Domain domainOf(const Box2& bounds, double margin)
   d.side = s * (1.0 + 2.0 * margin);
   d.origin = bounds.center() - 0.5 * Vec2{ d.side, d.side };
   return d;
+}
+
+// The value of a target edge length field at p (input coordinates): +inf for no wish (NaN,
+// +inf); ParameterError for a value <= 0 (or -inf).
+double targetAt(const std::function<double(Vec2)>& target, Vec2 p)
+{
+  const double t = target(p);
+  if (std::isnan(t) || t == HUGE_VAL)
+  {
+    return HUGE_VAL;
+  }
+  if (!(t > 0.0))
+  {
+    throw ParameterError("Grid48: the target edge length " + std::to_string(t) + " at (" +
+      std::to_string(p.x) + ", " + std::to_string(p.y) + ") is not > 0");
+  }
+  return t;
+}
+
+// The largest finite target of the field sampled on a 65 x 65 lattice over the model's
+// bounds (input coordinates); 0 when no sample is finite.
+double largestTarget(const Model& model, const std::function<double(Vec2)>& target)
+{
+  constexpr int n = 64;
+  const Box2 box = model.bounds.empty() ? Box2{ { 0.0, 0.0 }, { 0.0, 0.0 } } : model.bounds;
+  double largest = 0.0;
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      const Vec2 local{ box.min.x + (box.max.x - box.min.x) * i / n,
+        box.min.y + (box.max.y - box.min.y) * j / n };
+      const double t = targetAt(target, local + model.origin);
+      if (t < HUGE_VAL)
+      {
+        largest = std::max(largest, t);
+      }
+    }
+  }
+  return largest;
 }
 
 // Median length of the model's curve segments (0 when there are none).
@@ -732,6 +788,7 @@ public:
     : G(grid)
     , Field(field)
     , P(params)
+    , ModelOrigin(model.origin)
   {
     this->Index.reset(new BoundaryIndex(model, grid.Origin, grid.Side));
     this->IndexReach = 4.0 * this->Index->cellSize();
@@ -742,6 +799,11 @@ public:
     {
       this->TopLevel = std::max(this->TopLevel, this->P.junctionMaxLevel);
       this->collectFeaturePoints(model);
+    }
+    if (this->P.targetEdgeLength)
+    {
+      this->TargetLevel = this->P.targetMaxLevel;
+      this->TopLevel = std::max(this->TopLevel, this->TargetLevel);
     }
   }
 
@@ -853,11 +915,12 @@ public:
     // (d) close feature points. When the local test ran with localRefinement and said no, T
     // holds at most one model vertex, hence at most one feature point.
     if (level < this->P.junctionMaxLevel && !this->FeatureX.empty() && !(flags & kEmpty) &&
-      !(localTested && this->P.localRefinement))
+      !(localTested && this->P.localRefinement) && this->twoFeaturePoints(v, level))
     {
-      return this->twoFeaturePoints(v, level);
+      return true;
     }
-    return false;
+    // (f) target edge length field.
+    return level < this->TargetLevel && this->longerThanTarget(v, level);
   }
 
   // Examines every leaf (and every leaf created meanwhile) and splits those that meet a
@@ -1005,6 +1068,34 @@ private:
     return false;
   }
 
+  // (f): whether the hypotenuse of level `level` is longer than the smallest target at the
+  // corners of v and at its centroid.
+  bool longerThanTarget(const std::array<int, 3>& v, int level)
+  {
+    const double h = this->G.hypotenuseLength(level);
+    const double limit = h / (1.0 + 1e-12); // a target equal to h does not split
+    if (this->VertexTarget.size() < this->G.Lattice.size())
+    {
+      this->VertexTarget.resize(this->G.Lattice.size(), -1.0);
+    }
+    Vec2 centroid{ 0.0, 0.0 };
+    for (const int k : v)
+    {
+      const Vec2 p = this->G.vertexPosition(k);
+      double& t = this->VertexTarget[k];
+      if (t < 0.0)
+      {
+        t = targetAt(this->P.targetEdgeLength, p + this->ModelOrigin);
+      }
+      if (t < limit)
+      {
+        return true;
+      }
+      centroid = centroid + p;
+    }
+    return targetAt(this->P.targetEdgeLength, (1.0 / 3.0) * centroid + this->ModelOrigin) < limit;
+  }
+
   // Whether the closed triangle v holds two or more of the feature points kept.
   bool twoFeaturePoints(const std::array<int, 3>& v, int level)
   {
@@ -1038,7 +1129,10 @@ private:
   const DistanceField& Field;
   const Grid48Params& P;
   std::unique_ptr<BoundaryIndex> Index;
-  int TopLevel = 0; // no criterion splits a leaf of this level or finer
+  int TopLevel = 0;    // no criterion splits a leaf of this level or finer
+  Vec2 ModelOrigin;    // local + ModelOrigin = input coordinates (for the target field)
+  int TargetLevel = 0; // (f) splits below this level (0: no field)
+  std::vector<double> VertexTarget; // target at each grid vertex, -1 until evaluated
   std::vector<double> FeatureX, FeatureY, FeatureNearest;
   bool Local = false;
   double IndexReach = 0.0; // hypotenuses up to this length are decided with the index
@@ -1151,6 +1245,7 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
   // lengths: maxEdgeLength overrides the automatic level and raises the ones set, minEdgeLength
   // lowers them all.
   int maxLevel = p.maxLevel;
+  int automaticLevel = -1; // the usual automatic MaxLevel, before a field coarsens it
   if (maxLevel == -1)
   {
     const double m = medianSegmentLength(model);
@@ -1161,6 +1256,21 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
       level = static_cast<int>(std::lround(2.0 * std::log2(side / (4.0 * m))));
     }
     maxLevel = std::clamp(level, 10, 20);
+    automaticLevel = maxLevel;
+    if (p.targetEdgeLength && p.maxEdgeLength == 0.0)
+    {
+      // The field may coarsen: the coarsest level whose hypotenuse is <= its largest target.
+      const double largest = largestTarget(model, p.targetEdgeLength);
+      if (largest > 0.0)
+      {
+        int fieldLevel = 0;
+        while (fieldLevel < maxLevel && hypotenuse(fieldLevel) > largest * (1 + slack))
+        {
+          ++fieldLevel;
+        }
+        maxLevel = fieldLevel;
+      }
+    }
   }
   if (p.localMaxLevel != -1 && (p.localMaxLevel < maxLevel || p.localMaxLevel > MaxSupportedLevel))
   {
@@ -1192,6 +1302,20 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
       : p.localMaxLevel;
   }
   p.junctionMaxLevel = std::min(std::max(p.junctionMaxLevel, p.localMaxLevel), cap);
+  if (p.targetMaxLevel == -1)
+  {
+    // The floor: 4 levels below LocalMaxLevel, or below the usual automatic LocalMaxLevel when
+    // the field coarsened MaxLevel (so that coarsening elsewhere does not limit refinement).
+    const int base = std::max(p.localMaxLevel, automaticLevel + 4);
+    p.targetMaxLevel = p.minEdgeLength > 0.0 ? cap : std::min(base + 4, MaxSupportedLevel);
+  }
+  else if (p.targetMaxLevel < p.localMaxLevel || p.targetMaxLevel > MaxSupportedLevel)
+  {
+    throw ParameterError("Grid48: TargetMaxLevel " + std::to_string(p.targetMaxLevel) +
+      " is not -1 (automatic) or in [LocalMaxLevel = " + std::to_string(p.localMaxLevel) + ", " +
+      std::to_string(MaxSupportedLevel) + "]");
+  }
+  p.targetMaxLevel = std::min(p.targetMaxLevel, cap);
   if (p.minLevel == -1)
   {
     p.minLevel = std::max(edgeLevel, 0);

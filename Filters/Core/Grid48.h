@@ -189,6 +189,35 @@ struct Grid48Params
   /// min(maxLevel, MaxUniformLevel)], or -1 (default) for automatic: the level of
   /// maxEdgeLength when it is > 0, else 0; a level set is raised to that of maxEdgeLength.
   int minLevel = -1;
+  /// Optional target edge length field (a sizing function), in model units: called with a
+  /// point in *input* coordinates (local + Model::origin, so that the caller can evaluate its
+  /// own data there), it returns the wanted length of the triangles' longest edge at that
+  /// point; +infinity or NaN mean "no wish here", a finite value <= 0 is a ParameterError.
+  /// Empty (default): no field. When set, (f) a leaf is split while its hypotenuse is longer
+  /// than the smallest target at its three corners and its centroid (corner values are
+  /// evaluated once per grid vertex), up to targetMaxLevel. The 4-8 grid's conformity
+  /// (neighbours at most one level apart) grades the result: edge-adjacent triangles' longest
+  /// edges differ by at most a factor sqrt(2). With maxLevel automatic (-1, and no
+  /// maxEdgeLength), the field can also coarsen: maxLevel becomes the coarser of the usual
+  /// automatic level and the coarsest level whose hypotenuse is <= the largest finite target
+  /// sampled on a 65 x 65 lattice over the model's bounds (clamped to >= 0, not to [10, 20]);
+  /// local, thin-region and junction refinement keep working relative to the levels so
+  /// resolved. The function is called from the refining thread only (Grid48 refines on one
+  /// thread), never concurrently; the grid keeps a copy in params().
+  std::function<double(Vec2)> targetEdgeLength;
+  /// Identifies the field of targetEdgeLength for GridSession: two calls with the same
+  /// non-zero id promise the same field, so refinement may resume; 0 (default): unknown, a
+  /// session with a field is then rebuilt on every refine(). Ignored without a field.
+  std::uint64_t targetEdgeLengthId = 0;
+  /// Level cap of the target edge length refinement (f), the floor of the field: no leaf is
+  /// split by (f) beyond it. Range [localMaxLevel, 60], or -1 (default) for automatic: the
+  /// cap of minEdgeLength when it is > 0 (every hypotenuse stays >= minEdgeLength), else
+  /// min(localMaxLevel + 4, 60) (hypotenuses 4 times shorter than at localMaxLevel), which
+  /// bounds the memory a field asking for tiny edges can take; when the field coarsened an
+  /// automatic maxLevel, localMaxLevel is taken as it would be without the field (the usual
+  /// automatic level + 4), so that coarsening at depth does not also limit the refinement
+  /// where the field asks for small edges. Unused without a field.
+  int targetMaxLevel = -1;
 };
 
 /// The finest uniform level that maxEdgeLength / minLevel may ask for (4 * 2^22 triangles).

@@ -9,6 +9,20 @@ namespace strata
 namespace
 {
 
+/// The target edge length criterion of `next` is at least as fine as `current`'s: no field
+/// before, or the same field (same non-zero id) with a floor not coarser. A field removed, or
+/// one that may have changed, makes the grid rebuild.
+bool sameOrFinerField(const Grid48Params& next, const Grid48Params& current)
+{
+  if (!current.targetEdgeLength)
+  {
+    return true;
+  }
+  return next.targetEdgeLength && next.targetEdgeLengthId != 0 &&
+    next.targetEdgeLengthId == current.targetEdgeLengthId &&
+    next.targetMaxLevel >= current.targetMaxLevel;
+}
+
 /// True when every criterion of `next` is at least as fine as `current`'s (both resolved).
 bool atLeastAsFine(const Grid48Params& next, const Grid48Params& current)
 {
@@ -18,7 +32,8 @@ bool atLeastAsFine(const Grid48Params& next, const Grid48Params& current)
     (next.junctionRefinement || !current.junctionRefinement) &&
     next.featurePointAngle >= current.featurePointAngle &&
     (next.localRefinement || !current.localRefinement) &&
-    (next.thinRegionRefinement || !current.thinRegionRefinement) && next.margin == current.margin;
+    (next.thinRegionRefinement || !current.thinRegionRefinement) && next.margin == current.margin &&
+    sameOrFinerField(next, current);
 }
 
 } // namespace
@@ -49,7 +64,8 @@ TriangleMesh GridSession::extract(int level) const
   return this->Grid->extract(level);
 }
 
-Classification GridSession::classify(const TriangleMesh& mesh, const ClassificationParams& params,
+Classification GridSession::classify(const TriangleMesh& mesh,
+  const ClassificationParams& params,
   const ProgressReporter& progress) const
 {
   return strata::classify(mesh, this->Core, *this->Field, params, progress);

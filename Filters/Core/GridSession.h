@@ -34,7 +34,9 @@ public:
 
   /// Brings the grid to `params`: resumes refinement when the resolved parameters are all at
   /// least as fine as the current grid's, rebuilds otherwise. Returns true when it resumed
-  /// (or had nothing to do). Throws ParameterError, Aborted.
+  /// (or had nothing to do). With a target edge length field it resumes only when the field
+  /// is the same (Grid48Params::targetEdgeLengthId equal and non-zero), else it rebuilds.
+  /// Throws ParameterError, Aborted.
   bool refine(const Grid48Params& params, const ProgressReporter& progress = ProgressReporter());
 
   /// The grid (valid after refine()).
@@ -44,7 +46,8 @@ public:
   TriangleMesh extract(int level = -1) const;
 
   /// Classification of a mesh extracted from this session.
-  Classification classify(const TriangleMesh& mesh, const ClassificationParams& params = {},
+  Classification classify(const TriangleMesh& mesh,
+    const ClassificationParams& params = {},
     const ProgressReporter& progress = ProgressReporter()) const;
 
 private:

@@ -8,7 +8,8 @@
 //   compression ...     compress(): set-up, simulation, face classification, optimization
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
-//                       Shared curves, summary (angles, boundary deviation, region areas)
+//                       Shared curves, summary (angles, boundary deviation, region areas),
+//                       regions keeping less than half their area reported by id
 // Nothing is kept between calls.
 #include "Mesher.h"
 
@@ -28,6 +29,9 @@ namespace strata
 namespace
 {
 using Clock = std::chrono::steady_clock;
+// A region whose triangles cover less than this share of its model area is reported as
+// unresolved (too thin or too small for the finest triangles).
+constexpr double kUnresolvedFraction = 0.5;
 
 double ringArea(const Ring& ring)
 {
@@ -225,6 +229,7 @@ MesherResult triangulate(const RawPolylines& input,
   }
   t0 = Clock::now();
   result.summary.iterations = compressed.iterations;
+  result.summary.boundarySplits = compressed.boundarySplits;
   result.warnings.insert(
     result.warnings.end(), compressed.warnings.begin(), compressed.warnings.end());
 
@@ -255,7 +260,10 @@ MesherResult triangulate(const RawPolylines& input,
       {
         newId[v] = static_cast<int>(result.points.size());
         result.points.push_back(compressed.points[v]);
-        result.displacement.push_back(compressed.points[v] - mesh.points[v]);
+        // Points inserted by the boundary refinement have no grid position: no displacement.
+        result.displacement.push_back(static_cast<std::size_t>(v) < mesh.points.size()
+            ? compressed.points[v] - mesh.points[v]
+            : Vec2{});
       }
       tri[k] = newId[v];
     }
@@ -415,13 +423,26 @@ MesherResult triangulate(const RawPolylines& input,
       result.regionAreas[index].mesh += result.area[t];
     }
   }
+  std::string unresolved;
   for (const MesherResult::RegionArea& ra : result.regionAreas)
   {
     if (ra.model > 0.0)
     {
       result.summary.maxRegionAreaError =
         std::max(result.summary.maxRegionAreaError, std::fabs(ra.mesh - ra.model) / ra.model);
+      if (ra.mesh < kUnresolvedFraction * ra.model)
+      {
+        result.unresolvedRegions.push_back(ra.id);
+        unresolved += (unresolved.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
+          std::to_string(static_cast<int>(std::lround(100.0 * ra.mesh / ra.model))) + "%)";
+      }
     }
+  }
+  if (!unresolved.empty())
+  {
+    result.warnings.push_back("regions too thin or too small for the finest triangles keep less "
+                              "than half of their area (region id and % of its area kept): " +
+      unresolved + "; raise LocalMaxLevel or lower MinimumEdgeLength to keep them");
   }
 
   result.summary.triangles = result.triangles.size();

@@ -40,7 +40,7 @@ struct MesherResult
   std::vector<double> radiusRatio;           ///< per triangle, 2 r / R (1 equilateral)
   std::vector<double> area;                  ///< per triangle, model units^2 (> 0)
   std::vector<std::int8_t> vertexClass;      ///< per point: 0 exterior, 1 boundary, 2 interior
-  std::vector<Vec2> displacement;            ///< per point: final minus grid position
+  std::vector<Vec2> displacement; ///< per point: final minus grid position (0 if inserted)
 
   /// A piece of the approximated boundary (edges whose two faces have different regions, and
   /// the outer border of the kept triangles) in the Shared curves form: `left` lies to the
@@ -63,6 +63,9 @@ struct MesherResult
     double mesh = 0.0;
   };
   std::vector<RegionArea> regionAreas;
+  /// Ids of the regions whose triangles cover less than half of their model area (regions
+  /// thinner or smaller than the finest triangles); each is also named in `warnings`.
+  std::vector<int> unresolvedRegions;
 
   struct Summary
   {
@@ -79,6 +82,8 @@ struct MesherResult
     /// Largest |mesh area - model area| / model area over the regions.
     double maxRegionAreaError = 0.0;
     int iterations = 0; ///< simulation steps
+    /// Edges of the approximated boundary split onto their curve by the boundary refinement.
+    std::size_t boundarySplits = 0;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;

@@ -3,6 +3,7 @@ set(_adapter_tests
   Adaptive48GridFilterTest
   PhysicalCompressionTriangulatorTest
   PolylineSignedDistanceFilterTest
+  TargetEdgeLengthFilterTest
   )
 foreach (_test IN LISTS _adapter_tests)
   add_executable(${_test} ${_test}.cxx)

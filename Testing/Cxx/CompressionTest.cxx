@@ -369,6 +369,36 @@ TEST(CompressionTest, RejectsParametersOutOfRangeNamingThem)
   p = {};
   p.springConfiguration = static_cast<strata::SpringConfiguration>(3);
   EXPECT_NE(message(p).find("SpringConfiguration"), std::string::npos);
+  p = {};
+  p.boundaryTolerance = -0.5;
+  EXPECT_NE(message(p).find("BoundaryTolerance"), std::string::npos);
+}
+
+// Boundary refinement splits boundary edges onto their curve: each split adds one vertex,
+// on the curve, and two triangles; no triangle inverts; off (0) it splits nothing.
+TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("lake_superior.vtp")), 9);
+  const double tolerance = 1e-9 * pipe.model->size();
+  const strata::CompressionResult r = pipe.run();
+  ASSERT_GT(r.boundarySplits, 0u);
+  EXPECT_EQ(r.firstInsertedPoint, pipe.mesh.points.size());
+  EXPECT_EQ(r.points.size(), r.firstInsertedPoint + r.boundarySplits);
+  EXPECT_EQ(r.triangles.size(), pipe.mesh.triangles.size() + 2 * r.boundarySplits);
+  EXPECT_EQ(r.triangleRegion.size(), r.triangles.size());
+  EXPECT_EQ(r.vertexState.size(), r.points.size());
+  EXPECT_EQ(nonPositive(r), 0u);
+  for (std::size_t i = r.firstInsertedPoint; i < r.points.size(); ++i)
+  {
+    EXPECT_TRUE(
+      r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned);
+    EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << "inserted vertex " << i;
+  }
+  strata::CompressionParams off;
+  off.boundaryTolerance = 0.0;
+  const strata::CompressionResult r0 = pipe.run(off);
+  EXPECT_EQ(r0.boundarySplits, 0u);
+  EXPECT_EQ(r0.points.size(), pipe.mesh.points.size());
 }
 
 TEST(CompressionTest, RejectsAClassificationOfAnotherMesh)

@@ -3,9 +3,10 @@
 // refinement criteria against independent brute-force checks, resuming, parameters.
 #include "Grid48.h"
 
+#include "CoreTestUtilities.h"
 #include "DistanceField.h"
 #include "Errors.h"
-#include "CoreTestUtilities.h"
+#include "GridSession.h"
 #include "VtpAscii.h"
 
 #include <gtest/gtest.h>
@@ -13,6 +14,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <set>
@@ -1087,3 +1090,243 @@ TEST(Grid48Test, progress_is_reported_and_abort_leaves_a_valid_grid)
 }
 
 } // namespace
+
+// The target edge length field (Grid48Params::targetEdgeLength, criterion (f)).
+
+// Edge-adjacent leaves of the finest mesh: the largest ratio of their hypotenuses.
+double worstNeighbourRatio(const TriangleMesh& mesh)
+{
+  std::unordered_map<std::uint64_t, int> firstFace;
+  double worst = 1.0;
+  auto hypotenuse = [&](int t)
+  {
+    const auto& tri = mesh.triangles[t];
+    return strata::norm(mesh.points[tri[1]] - mesh.points[tri[2]]);
+  };
+  for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
+  {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const auto [it, inserted] = firstFace.emplace(edgeKey(tri[k], tri[(k + 1) % 3]), t);
+      if (!inserted)
+      {
+        const double a = hypotenuse(t);
+        const double b = hypotenuse(it->second);
+        worst = std::max(worst, std::max(a, b) / std::min(a, b));
+      }
+    }
+  }
+  return worst;
+}
+
+// The smallest target at the corners and the centroid of leaf t (input coordinates).
+double smallestSampledTarget(const Grid48& grid,
+  int t,
+  Vec2 origin,
+  const std::function<double(Vec2)>& field)
+{
+  const auto& v = grid.nodeVertices(t);
+  double smallest = HUGE_VAL;
+  Vec2 centroid{ 0.0, 0.0 };
+  for (const int k : v)
+  {
+    smallest = std::min(smallest, field(grid.vertexPosition(k) + origin));
+    centroid = centroid + grid.vertexPosition(k);
+  }
+  return std::min(smallest, field((1.0 / 3.0) * centroid + origin));
+}
+
+TEST(Grid48Test, target_edge_length_field_refines_a_disc_coarsens_elsewhere_and_is_graded)
+{
+  for (const std::string name : { "salt_dome.vtp", "gulf_section.vtp" })
+  {
+    SCOPED_TRACE(name);
+    const Loaded& m = load(name);
+    const Grid48 automatic = Grid48::build(m.model, *m.field);
+    const double side = automatic.side();
+    const int autoLevel = automatic.params().maxLevel;
+    // Small edges (two levels finer than the automatic MaxLevel) in a disc around the centre
+    // of the model, large ones (side / 8) elsewhere; input coordinates, as the adapters give.
+    const Vec2 centre = m.model.bounds.center() + m.model.origin;
+    const double radius = 0.1 * side;
+    const double small = automatic.hypotenuseLength(autoLevel + 2);
+    const double large = side / 8.0;
+    const auto field = [&](Vec2 p) { return strata::norm(p - centre) < radius ? small : large; };
+    Grid48Params p;
+    p.targetEdgeLength = field;
+    const Grid48 grid = Grid48::build(m.model, *m.field, p);
+    const Grid48Params& r = grid.params();
+    // The field coarsens MaxLevel to the level of its largest value: side / 2^(6 / 2).
+    EXPECT_EQ(r.maxLevel, 6);
+    EXPECT_EQ(r.localMaxLevel, 10);
+    EXPECT_EQ(r.targetMaxLevel, autoLevel + 8); // the floor follows the usual levels
+    expectValidMesh(grid, grid.extract(), name);
+    expectConsistentNeighbours(grid);
+
+    std::size_t inside = 0, insideAuto = 0, outside = 0, outsideAuto = 0;
+    const auto count = [&](const Grid48& g, std::size_t& in, std::size_t& out)
+    {
+      for (int t = 0; t < static_cast<int>(g.numberOfNodes()); ++t)
+      {
+        if (!g.isLeaf(t))
+        {
+          continue;
+        }
+        const auto& v = g.nodeVertices(t);
+        const Vec2 c =
+          (1.0 / 3.0) * (g.vertexPosition(v[0]) + g.vertexPosition(v[1]) + g.vertexPosition(v[2])) +
+          m.model.origin;
+        const double d = strata::norm(c - centre);
+        (d < radius ? in : out) += d < radius || d > radius + 2.0 * large ? 1 : 0;
+      }
+    };
+    count(grid, inside, outside);
+    count(automatic, insideAuto, outsideAuto);
+    EXPECT_GT(inside, 2 * insideAuto) << inside << " vs " << insideAuto;
+    EXPECT_LT(outside, outsideAuto) << outside << " vs " << outsideAuto;
+    std::cout << name << ": inside the disc " << inside << " leaves (" << insideAuto
+              << " without the field), far outside " << outside << " (" << outsideAuto << "); all "
+              << grid.numberOfLeaves() << " (" << automatic.numberOfLeaves() << ")\n";
+
+    // Every leaf above the floor is no longer than the smallest target sampled on it, and
+    // a leaf inside the disc is no longer than the small target.
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t) || grid.nodeLevel(t) >= r.targetMaxLevel)
+      {
+        continue;
+      }
+      const double h = grid.hypotenuseLength(grid.nodeLevel(t));
+      EXPECT_LE(h, smallestSampledTarget(grid, t, m.model.origin, field) * (1 + 1e-9)) << t;
+      const auto& v = grid.nodeVertices(t);
+      bool allInside = true;
+      for (const int k : v)
+      {
+        allInside &= strata::norm(grid.vertexPosition(k) + m.model.origin - centre) < radius;
+      }
+      if (allInside)
+      {
+        EXPECT_LE(h, small * (1 + 1e-9)) << t;
+      }
+    }
+    // Grading: edge-adjacent leaves' longest edges within a factor sqrt(2) (<= 2 asked).
+    EXPECT_LE(worstNeighbourRatio(grid.extract()), std::sqrt(2.0) * (1 + 1e-9));
+    // A MaxLevel set is kept (the field refines, but does not coarsen it).
+    p.maxLevel = autoLevel;
+    EXPECT_EQ(Grid48::resolveParams(m.model, p).maxLevel, autoLevel);
+  }
+}
+
+TEST(Grid48Test, target_edge_length_floor_bounds_the_refinement)
+{
+  const Loaded& m = load("salt_dome.vtp");
+  const Grid48 automatic = Grid48::build(m.model, *m.field);
+  const double side = automatic.side();
+  const Vec2 centre = m.model.bounds.center() + m.model.origin;
+  const double radius = 0.05 * side;
+  // 1e-9 in a disc: refined down to the floor, LocalMaxLevel + 4, and not beyond.
+  Grid48Params p;
+  p.targetEdgeLength = [&](Vec2 q)
+  { return strata::norm(q - centre) < radius ? 1e-9 : std::nan(""); };
+  const Grid48 grid = Grid48::build(m.model, *m.field, p);
+  const Grid48Params& r = grid.params();
+  EXPECT_EQ(r.maxLevel, automatic.params().maxLevel); // no finite large value: no coarsening
+  EXPECT_EQ(r.targetMaxLevel, r.localMaxLevel + 4);
+  const double floor = grid.hypotenuseLength(r.targetMaxLevel);
+  // The disc's area in floor triangles (h^2 / 4 each), plus the graded transition ring.
+  const double discTriangles = 3.14159265 * radius * radius / (0.25 * floor * floor);
+  EXPECT_GT(static_cast<double>(grid.numberOfLeaves()), discTriangles);
+  EXPECT_LT(static_cast<double>(grid.numberOfLeaves()),
+    static_cast<double>(automatic.numberOfLeaves()) + 1.3 * discTriangles);
+  // Inside the disc every leaf reached the floor; only the boundary criteria (junctions,
+  // up to JunctionMaxLevel) go finer, as without the field.
+  std::size_t finer = 0, finerAuto = 0;
+  for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+  {
+    if (!grid.isLeaf(t))
+    {
+      continue;
+    }
+    finer += grid.nodeLevel(t) > r.targetMaxLevel ? 1 : 0;
+    bool allInside = true;
+    for (const int k : grid.nodeVertices(t))
+    {
+      allInside &= strata::norm(grid.vertexPosition(k) + m.model.origin - centre) < radius;
+    }
+    if (allInside)
+    {
+      EXPECT_GE(grid.nodeLevel(t), r.targetMaxLevel) << t;
+    }
+  }
+  for (int t = 0; t < static_cast<int>(automatic.numberOfNodes()); ++t)
+  {
+    finerAuto += automatic.isLeaf(t) && automatic.nodeLevel(t) > r.targetMaxLevel ? 1 : 0;
+  }
+  EXPECT_LE(finer, finerAuto + 64);
+  expectValidMesh(grid, grid.extract(), "floor");
+  // MinimumEdgeLength is the floor when set: no hypotenuse is shorter.
+  p.minEdgeLength = 4.0 * floor;
+  const Grid48 capped = Grid48::build(m.model, *m.field, p);
+  EXPECT_GE(leafHypotenuseRange(capped).second, p.minEdgeLength * (1 - 1e-9));
+  EXPECT_LE(leafHypotenuseRange(capped).second, 2.0 * p.minEdgeLength);
+  EXPECT_LT(capped.numberOfLeaves(), grid.numberOfLeaves() / 4)
+    << capped.numberOfLeaves() << " vs " << grid.numberOfLeaves();
+}
+
+TEST(Grid48Test, target_edge_length_without_wishes_changes_nothing_and_bad_values_throw)
+{
+  const Loaded& m = load("pinch_out.vtp");
+  const Grid48 automatic = Grid48::build(m.model, *m.field);
+  Grid48Params p;
+  p.targetEdgeLength = [](Vec2 q) { return q.x < 0.0 ? HUGE_VAL : std::nan(""); };
+  const Grid48 none = Grid48::build(m.model, *m.field, p);
+  EXPECT_TRUE(leafSet(none) == leafSet(automatic));
+  for (const double bad : { 0.0, -2.5, -HUGE_VAL })
+  {
+    p.targetEdgeLength = [bad](Vec2) { return bad; };
+    try
+    {
+      Grid48::build(m.model, *m.field, p);
+      ADD_FAILURE() << "no error for " << bad;
+    }
+    catch (const strata::ParameterError& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("target edge length"), std::string::npos) << e.what();
+    }
+  }
+  p = {};
+  p.targetEdgeLength = [](Vec2) { return 1.0; };
+  p.maxLevel = 10;
+  p.localMaxLevel = 12;
+  p.targetMaxLevel = 11; // below LocalMaxLevel
+  EXPECT_THROW(Grid48::resolveParams(m.model, p), strata::ParameterError);
+}
+
+TEST(Grid48Test, a_session_resumes_only_with_the_same_target_field)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp"));
+  strata::GridSession session(raw);
+  const strata::Model& model = session.model();
+  const Vec2 centre = model.bounds.center() + model.origin;
+  double radius = 50.0;
+  Grid48Params p;
+  p.maxLevel = 10;
+  p.targetEdgeLength = [&](Vec2 q) { return strata::norm(q - centre) < radius ? 5.0 : HUGE_VAL; };
+  p.targetEdgeLengthId = 1;
+  EXPECT_FALSE(session.refine(p));
+  const std::size_t first = session.grid().numberOfLeaves();
+  EXPECT_TRUE(session.refine(p)); // same field: resumed, nothing to do
+  EXPECT_EQ(session.grid().numberOfLeaves(), first);
+  radius = 25.0; // the field changed: a new id rebuilds, coarser where the disc shrank
+  p.targetEdgeLengthId = 2;
+  EXPECT_FALSE(session.refine(p));
+  EXPECT_LT(session.grid().numberOfLeaves(), first);
+  EXPECT_TRUE(leafSet(session.grid()) == leafSet(Grid48::build(model, session.field(), p)));
+  p.targetEdgeLengthId = 0; // unknown field: always rebuilt
+  EXPECT_FALSE(session.refine(p));
+  p.targetEdgeLength = nullptr; // field removed: rebuilt, as without it
+  EXPECT_FALSE(session.refine(p));
+  EXPECT_TRUE(leafSet(session.grid()) == leafSet(Grid48::build(model, session.field(), p)));
+}

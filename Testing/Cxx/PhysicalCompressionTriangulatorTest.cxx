@@ -79,7 +79,8 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
   vtkFieldData* fd = mesh->GetFieldData();
   for (const char* name : { "NumberOfTriangles", "NumberOfVertices", "MinimumAngle",
          "MaximumAngle", "PercentAngles30To60", "PercentTriangles30To60",
-         "MaxBoundaryDeviation", "Iterations", "SecondsTotal" })
+         "MaxBoundaryDeviation", "Iterations", "SecondsTotal", "BoundarySplits",
+         "UnresolvedRegions" })
   {
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }

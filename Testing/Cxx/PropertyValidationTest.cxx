@@ -111,6 +111,9 @@ const std::vector<BadValue> BadValues = {
   { "FeatureAngle",
     [](auto* f) { f->SetFeatureAngle(181.0); },
     "FeatureAngle = 181 is out of range [0, 180]" },
+  { "BoundaryTolerance",
+    [](auto* f) { f->SetBoundaryTolerance(-1.0); },
+    "BoundaryTolerance = -1 is out of range [0, 10]" },
 };
 
 } // namespace

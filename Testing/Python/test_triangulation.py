@@ -31,6 +31,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertEqual(mesh.FlipDegenerate, 1)
         self.assertEqual(mesh.Optimization, 1)
         self.assertAlmostEqual(mesh.FeatureAngle, 140.0)
+        self.assertAlmostEqual(mesh.BoundaryTolerance, 0.25)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
                      "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
                      "MinimumEdgeLength"):
@@ -52,6 +53,25 @@ class TriangulationTest(unittest.TestCase):
         for name in ("VertexClass", "Displacement"):
             self.assertIn(name, out.PointData.keys())
         self.assertGreater(out.FieldData["MinimumAngle"][0], 0.0)
+
+    def test_thin_regions_are_reported_and_boundary_splits_counted(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("thin_layer.vtp")])
+        mesh = Triangulation(Input=model)
+        out = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        # Region 1 is a layer 1.0 thick and 1000 wide (area ~1000): thinner than any triangle.
+        unresolved = np.asarray(out.FieldData["UnresolvedRegions"]).ravel()
+        self.assertEqual(list(unresolved), [1])
+        region = np.asarray(out.CellData["RegionId"])
+        self.assertLess(np.asarray(out.CellData["Area"])[region == 1].sum(), 500.0)
+        self.assertGreaterEqual(out.FieldData["BoundarySplits"][0], 0)
+        lake = simple.XMLPolyDataReader(FileName=[st.data("lake_superior.vtp")])
+        on = dsa.WrapDataObject(servermanager.Fetch(Triangulation(Input=lake)))
+        off = dsa.WrapDataObject(servermanager.Fetch(Triangulation(Input=lake,
+                                                                   BoundaryTolerance=0.0)))
+        self.assertGreater(on.FieldData["BoundarySplits"][0], 0)
+        self.assertEqual(off.FieldData["BoundarySplits"][0], 0)
+        self.assertLess(on.FieldData["MaxBoundaryDeviation"][0],
+                        off.FieldData["MaxBoundaryDeviation"][0])
 
     def test_boundary_port_gives_shared_curves(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])

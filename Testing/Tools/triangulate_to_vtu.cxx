@@ -8,7 +8,8 @@
 //   --max-level N --local-max-level N --tolerance X
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
-//   --no-optimize --passes N --rings N --boundary OUT.vtp (approximated boundary polylines)
+//   --no-optimize --passes N --rings N --boundary-tolerance X
+//   --boundary OUT.vtp (approximated boundary polylines)
 #include "Mesher.h"
 #include "VtpAscii.h"
 
@@ -206,6 +207,8 @@ int main(int argc, char** argv)
       p.compression.optimize = false;
     else if (a == "--passes")
       p.compression.optimizationPasses = std::atoi(next());
+    else if (a == "--boundary-tolerance")
+      p.compression.boundaryTolerance = std::atof(next());
     else if (a == "--rings")
       p.compression.activeRings = std::atoi(next());
     else if (a == "--boundary")
@@ -226,7 +229,8 @@ int main(int argc, char** argv)
     std::printf("{\n \"triangles\": %zu, \"vertices\": %zu,\n \"min_angle\": %.4f, "
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
-                " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n",
+                " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
+                " \"boundary_splits\": %zu,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -237,7 +241,8 @@ int main(int argc, char** argv)
       s.maxBoundaryVertexDistance,
       100.0 * s.maxRegionAreaError,
       s.iterations,
-      s.totalSeconds);
+      s.totalSeconds,
+      s.boundarySplits);
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {
