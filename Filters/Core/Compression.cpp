@@ -79,7 +79,11 @@
 //    at the farthest chain point (or, if that would invert a face, at the middle of the chain
 //    piece), the new vertex is on the curve (pinned on a stop point) and each new face keeps
 //    the region of its side (a split whose faces would have an angle below 15 or above 140
-//    degrees is not made). Up to 8 rounds. The simulation is over by then: new vertices and
+//    degrees is not made). Where the curve runs beyond the face across the edge (an inlet
+//    deeper than a face), no split is valid: that face's free vertex, which lies inside the
+//    bulge, is placed on the curve instead (farthest point, or its own closest point of the
+//    chain) when its faces keep their smallest angle above min(15 degrees, the current one),
+//    and its faces are classified again. Up to 8 rounds. The simulation is over by then: new vertices and
 //    edges carry no springs. Smoothing then slides no curve vertex so that one of its boundary
 //    edges leaves the tolerance (or gets farther out of it), unless an angle around the vertex
 //    is below 20 degrees.
@@ -764,7 +768,11 @@ private:
   std::vector<Location> locationsOf(int i) const;
   ChainPiece boundaryPiece(int t, int k) const;
   Location pieceMiddle(const ChainPiece& piece) const;
+  bool canSplit(int t, int k, Vec2 w) const;
   bool splitBoundaryEdge(int t, int k, const Location& at, bool pin);
+  bool pullIntoBulge(int t, int k, const Location& far);
+  Location farthestLocation(const ChainPiece& piece) const;
+  bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
   bool followsCurves(int i, Vec2 p, const Location& l);
   std::size_t refineBoundary();
   bool active(int i) const { return i < this->NumActive || i >= this->FirstAdded; }
@@ -2637,16 +2645,15 @@ BoundaryRails::Location Compressor::pieceMiddle(const ChainPiece& piece) const
 // (a, b, c) + (b, a, d) -> (a, w, c) + (w, b, c) + (b, w, d) + (w, a, d), each new face keeping
 // the region of its side. Refused (false) when a new face would have an angle below 15
 // degrees or above 140 degrees (the optimization that follows could not mend it).
-bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
+bool Compressor::canSplit(int t, int k, Vec2 w) const
 {
   static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
   static const double kMaxCos = std::cos(140.0 * 3.14159265358979323846 / 180.0);
-  std::vector<Vec2>& x = this->Sys->positions();
+  const std::vector<Vec2>& x = this->Sys->positions();
   const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
   const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
   const int d = this->Tri[u][(j + 2) % 3];
-  const Vec2 w = this->Rails.position(at);
   const std::array<std::array<Vec2, 3>, 4> faces{
     { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
   };
@@ -2659,6 +2666,21 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
     {
       return false;
     }
+  }
+  return true;
+}
+
+bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
+{
+  std::vector<Vec2>& x = this->Sys->positions();
+  const int u = this->Nbr[t][k];
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
+  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
+  const int d = this->Tri[u][(j + 2) % 3];
+  const Vec2 w = this->Rails.position(at);
+  if (!this->canSplit(t, k, w))
+  {
+    return false;
   }
   // The new vertex.
   const int i = static_cast<int>(this->Global.size());
@@ -2783,6 +2805,88 @@ bool Compressor::followsCurves(int i, Vec2 p, const Location& l)
   return after <= before;
 }
 
+// Whether edge k of face t is a boundary edge between two curve vertices (each edge once:
+// from the face of smaller id, both faces below nt) whose chain piece lies out of tolerance.
+bool Compressor::deviatingEdge(int t, int k, int nt, ChainPiece& piece) const
+{
+  const int u = this->Nbr[t][k];
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
+  if (u < 0 || u >= nt || u < t || this->Tag[u] == this->Tag[t] || !this->onCurve(a) ||
+    !this->onCurve(b))
+  {
+    return false;
+  }
+  piece = this->boundaryPiece(t, k);
+  const std::vector<Vec2>& x = this->Sys->positions();
+  return piece.farthest >= 0 &&
+    piece.deviation > this->Params.boundaryTolerance * norm(x[b] - x[a]);
+}
+
+BoundaryRails::Location Compressor::farthestLocation(const ChainPiece& piece) const
+{
+  const BoundaryRails::Chain& c = this->Rails.chain(piece.chain);
+  const int p = piece.farthest;
+  Location far;
+  far.chain = piece.chain;
+  far.segment = c.closed || p < static_cast<int>(c.numberOfSegments()) ? p : p - 1;
+  far.t = far.segment == p ? 0.0 : 1.0;
+  return far;
+}
+
+// The curve bulges beyond the face across edge k of t (an inlet deeper than a triangle): the
+// free vertex of that face, which lies inside the bulge, is placed on the curve (at the
+// farthest point or at its own closest point of the chain), when the restrain test allows;
+// its faces are classified again. Needs a current star table.
+bool Compressor::pullIntoBulge(int t, int k, const Location& far)
+{
+  static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
+  const Vec2 w = this->Rails.position(far);
+  int v = this->Tri[t][(k + 2) % 3];
+  if (!(orient2d(x[a], x[b], w) > 0.0))
+  {
+    const int u = this->Nbr[t][k];
+    const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
+    v = this->Tri[u][(j + 2) % 3];
+  }
+  if (!this->active(v) || this->St[v] != Free)
+  {
+    return false;
+  }
+  std::vector<Location> places{ far };
+  const Location closest = this->Rails.closest(x[v], this->RailScratch);
+  if (closest.chain == far.chain)
+  {
+    places.push_back(closest);
+  }
+  for (const Location& l : places)
+  {
+    const int point = this->Rails.pointAt(l);
+    const bool stop = point >= 0 && this->Rails.isStop(l.chain, point);
+    if ((stop && this->Claimed[this->Rails.chain(l.chain).nodes[point]]) ||
+      (!stop && this->nearClaimedStop(l, 0.1 * this->H[v])) ||
+      this->starMinAngle(v, this->Rails.position(l)) <
+        std::min(floorSine, this->starMinAngle(v, x[v])))
+    {
+      continue;
+    }
+    if (this->placeOnCurve(v, l, 1.0))
+    {
+      if (stop)
+      {
+        this->Claimed[this->Rails.chain(l.chain).nodes[point]] = 1;
+      }
+      this->St[v] = stop ? Pinned : Rail;
+      this->Loc[v] = l;
+      this->VRegion[v] = kOnCurve;
+      this->retagStar(v);
+      return true;
+    }
+  }
+  return false;
+}
+
 std::size_t Compressor::refineBoundary()
 {
   if (!(this->Params.boundaryTolerance > 0.0))
@@ -2797,34 +2901,22 @@ std::size_t Compressor::refineBoundary()
   std::size_t splits = 0;
   for (int round = 0; round < 8; ++round)
   {
+    // Splits at the farthest curve point, or at the middle of the curve piece.
     std::size_t now = 0;
-    const int nt = static_cast<int>(this->Tri.size());
+    int nt = static_cast<int>(this->Tri.size());
+    ChainPiece piece;
     for (int t = 0; t < nt; ++t)
     {
       this->poll(static_cast<std::size_t>(t));
       for (int k = 0; k < 3; ++k)
       {
-        const int u = this->Nbr[t][k];
-        const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
-        if (u < 0 || u >= nt || u < t || this->Tag[u] == this->Tag[t] || !this->onCurve(a) ||
-          !this->onCurve(b))
+        if (!this->deviatingEdge(t, k, nt, piece))
         {
           continue;
         }
-        const ChainPiece piece = this->boundaryPiece(t, k);
-        const double tolerance = this->Params.boundaryTolerance *
-          norm(this->Sys->positions()[b] - this->Sys->positions()[a]);
-        if (!(piece.deviation > tolerance) || piece.farthest < 0)
-        {
-          continue;
-        }
-        const BoundaryRails::Chain& c = this->Rails.chain(piece.chain);
-        const int p = piece.farthest;
-        Location far;
-        far.chain = piece.chain;
-        far.segment = c.closed || p < static_cast<int>(c.numberOfSegments()) ? p : p - 1;
-        far.t = far.segment == p ? 0.0 : 1.0;
-        bool split = this->splitBoundaryEdge(t, k, far, this->Rails.isStop(piece.chain, p));
+        const Location far = this->farthestLocation(piece);
+        bool split =
+          this->splitBoundaryEdge(t, k, far, this->Rails.isStop(far.chain, piece.farthest));
         if (!split)
         {
           const Location middle = this->pieceMiddle(piece);
@@ -2840,15 +2932,40 @@ std::size_t Compressor::refineBoundary()
       }
     }
     splits += now;
-    if (now == 0)
+    // Edges that cannot be split because the curve runs beyond the opposite face: pull that
+    // face's free vertex onto the curve (the next round splits what is left).
+    this->rebuildStars();
+    std::size_t pulled = 0;
+    nt = static_cast<int>(this->Tri.size());
+    for (int t = 0; t < nt; ++t)
+    {
+      this->poll(static_cast<std::size_t>(t));
+      for (int k = 0; k < 3; ++k)
+      {
+        if (!this->deviatingEdge(t, k, nt, piece))
+        {
+          continue;
+        }
+        const Location far = this->farthestLocation(piece);
+        if (this->canSplit(t, k, this->Rails.position(far)) ||
+          this->canSplit(t, k, this->Rails.position(this->pieceMiddle(piece))))
+        {
+          continue; // the next round splits it
+        }
+        if (this->pullIntoBulge(t, k, far))
+        {
+          ++pulled;
+          break;
+        }
+      }
+    }
+    this->Result.bulgeVertices += pulled;
+    if (now == 0 && pulled == 0)
     {
       break;
     }
   }
-  if (splits > 0)
-  {
-    this->rebuildStars();
-  }
+  this->rebuildStars();
   return splits;
 }
 

@@ -177,6 +177,7 @@ struct CompressionResult
   std::size_t optimizationFlips = 0;    ///< flips of the quality pass
   std::size_t smoothingMoves = 0;       ///< accepted smoothing moves
   std::size_t boundarySplits = 0;       ///< boundary edges split onto their curve
+  std::size_t bulgeVertices = 0;        ///< free vertices moved onto a curve that bulged past them
   /// Points [firstInsertedPoint, points.size()) were inserted by the boundary refinement
   /// (they have no grid position); the others are the grid's points.
   std::size_t firstInsertedPoint = 0;

@@ -394,10 +394,25 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
       r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned);
     EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << "inserted vertex " << i;
   }
+  // Where the curve runs beyond the opposite face (an inlet deeper than a triangle), that
+  // face's free vertex is moved onto the curve instead: the countries' coasts have such inlets.
+  const Pipeline coasts(
+    strata_test::readVtpAscii(strata_test::dataPath("countries_westeurope.vtp")), 10);
+  const strata::CompressionResult rc = coasts.run();
+  EXPECT_GT(rc.bulgeVertices, 0u);
+  EXPECT_EQ(nonPositive(rc), 0u);
+  for (std::size_t i = 0; i < rc.points.size(); ++i)
+  {
+    if (rc.vertexState[i] == strata::VertexOnCurve || rc.vertexState[i] == strata::VertexPinned)
+    {
+      EXPECT_LE(coasts.boundaryDistance(rc.points[i]), 1e-9 * coasts.model->size()) << i;
+    }
+  }
   strata::CompressionParams off;
   off.boundaryTolerance = 0.0;
   const strata::CompressionResult r0 = pipe.run(off);
   EXPECT_EQ(r0.boundarySplits, 0u);
+  EXPECT_EQ(r0.bulgeVertices, 0u);
   EXPECT_EQ(r0.points.size(), pipe.mesh.points.size());
 }
 
