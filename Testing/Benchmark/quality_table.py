@@ -5,13 +5,20 @@ Run by hand (not part of ctest), with Debian's Python:
         --meshcheck ../shared/tools/meshcheck.py [--out /tmp/quality]
 For every model it meshes with the default settings (automatic levels) and, for the paper's
 three models, at the MaxLevel whose triangle count is nearest the paper's; then prints a
-Markdown table of what meshcheck.py recomputes from the geometry alone.
+Markdown table of what meshcheck.py recomputes from the geometry alone, plus one figure of
+its own: the boundary deviation over the *local* edge length (issue 4's "at most one local
+edge length"): the same two-way samples as meshcheck's Hausdorff distance, each distance
+divided by the mean edge length of the mesh triangle nearest to the sample (by centroid).
 """
 import argparse
+import importlib.util
 import json
 import os
 import subprocess
 import time
+
+import numpy as np
+from scipy.spatial import cKDTree
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "Data")
@@ -35,7 +42,39 @@ def run(args, name, extra):
                           "--json", os.path.join(args.out, tag + ".json")],
                          check=True, capture_output=True, text=True).stdout
     m = json.loads(out[out.index("{"):])
+    m["deviation_over_local_edge"] = local_deviation(args.checker, model, vtu)
     return tag, m, seconds
+
+
+def local_deviation(mc, model_path, mesh_path):
+    """Largest two-way boundary distance over the local edge length (see the module doc)."""
+    model = mc.read(model_path)
+    pts, tris, reg, _ = mc.mesh_arrays(mc.read(mesh_path), "RegionId")
+    e, key, owner = mc.edges_of(tris)
+    faces = {}
+    for i, k in enumerate(map(tuple, key)):
+        faces.setdefault(k, []).append(owner[i])
+    bedges = np.array([k for k, f in faces.items() if len(f) == 1 or reg[f[0]] != reg[f[1]]])
+    if len(bedges) == 0:
+        return float("nan")
+    h = float(np.median(np.linalg.norm(pts[bedges[:, 0]] - pts[bedges[:, 1]], axis=1)))
+    curves = mc.model_curves(model)
+    p = np.concatenate([c[:-1] for c in curves if len(c) > 1])
+    q = np.concatenate([c[1:] for c in curves if len(c) > 1])
+    step = h / 4.0
+    s_in = mc.sample_segments(p, q, step)
+    s_mesh = mc.sample_segments(pts[bedges[:, 0]], pts[bedges[:, 1]], step)
+    d1, _ = cKDTree(s_in).query(s_mesh)
+    d2, _ = cKDTree(s_mesh).query(s_in)
+    tri_pts = pts[tris]
+    local = np.mean([np.linalg.norm(tri_pts[:, i] - tri_pts[:, (i + 1) % 3], axis=1)
+                     for i in range(3)], axis=0)
+    centroids = cKDTree(tri_pts.mean(axis=1))
+    worst = 0.0
+    for d, samples in ((d1, s_mesh), (d2, s_in)):
+        _, nearest = centroids.query(samples)
+        worst = max(worst, float((d / local[nearest]).max()))
+    return worst
 
 
 def main():
@@ -44,6 +83,9 @@ def main():
     ap.add_argument("--meshcheck", required=True)
     ap.add_argument("--out", default="/tmp/stratamesh_quality")
     args = ap.parse_args()
+    spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
+    args.checker = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(args.checker)
     os.makedirs(args.out, exist_ok=True)
     rows = []
     for name in MODELS:
@@ -51,13 +93,15 @@ def main():
         if name in PAPER:
             rows.append(run(args, name, ["--max-level", str(PAPER[name][0])]))
     print("| model | triangles | min angle | max angle | % triangles min angle >= 30 |"
-          " boundary Hausdorff / h | worst region area error | topology mismatches | seconds |")
-    print("|---|---|---|---|---|---|---|---|---|")
+          " boundary Hausdorff / h | deviation / local edge | worst region area error |"
+          " topology mismatches | seconds |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for tag, m, seconds in rows:
-        print("| %s | %d | %.2f | %.1f | %.1f | %.2f | %.2f%% | %d | %.2f |"
+        print("| %s | %d | %.2f | %.1f | %.1f | %.2f | %.2f | %.2f%% | %d | %.2f |"
               % (tag, m["triangles"], m["min_angle"], m["max_angle"],
                  m["pct_tris_minangle_ge_30"], m["hausdorff_over_h"],
-                 m["max_region_area_error_pct"], m["topology_mismatches"], seconds))
+                 m["deviation_over_local_edge"], m["max_region_area_error_pct"],
+                 m["topology_mismatches"], seconds))
 
 
 if __name__ == "__main__":
