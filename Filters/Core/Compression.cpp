@@ -62,31 +62,38 @@
 //    flipping the edges that block it when valid, as a last resort accepting 0.1% of the rest
 //    area; a vertex still heading for a junction hands the junction to a neighbour that can
 //    take it; an edge joining two off-curve vertices of different regions that neither can
-//    leave is flipped away when valid. (b) Flips: an edge between two faces of one region,
-//    one of them with an angle below 30 degrees, is flipped when both new faces are valid,
-//    keep that region and the pair's smallest angle grows. (c) Smoothing: a vertex whose
-//    faces have an angle below 30 degrees moves, if it is free and inside one region, toward
-//    the centroid of its neighbours or toward one of them (the candidate with the largest
-//    smallest angle, staying in its region), or, if it is on a curve, along its chain (not
-//    onto stop points, no face changing region), when the smallest angle of its faces grows.
-//    Passes repeat optimizationPasses times. No move or flip lowers the local smallest
-//    angle, and region boundaries stay on the vertices the compression put on curves.
-//    Between (a) and (b), boundary refinement: an edge between faces of different regions
-//    whose two ends are on one chain (the chain whose sides carry those two regions, walked in
-//    the direction that keeps them on the right sides) is compared with the chain between its
-//    ends; if a chain point lies farther than boundaryTolerance * h from the edge (a corner
-//    the compression cut, a bulge between two vertices), the edge and its two faces are split
-//    at the farthest chain point (or, if that would invert a face, at the middle of the chain
-//    piece), the new vertex is on the curve (pinned on a stop point) and each new face keeps
-//    the region of its side (a split whose faces would have an angle below 15 or above 140
-//    degrees is not made). Where the curve runs beyond the face across the edge (an inlet
-//    deeper than a face), no split is valid: that face's free vertex, which lies inside the
-//    bulge, is placed on the curve instead (farthest point, or its own closest point of the
-//    chain) when its faces keep their smallest angle above min(15 degrees, the current one),
-//    and its faces are classified again. Up to 8 rounds. The simulation is over by then: new vertices and
-//    edges carry no springs. Smoothing then slides no curve vertex so that one of its boundary
-//    edges leaves the tolerance (or gets farther out of it), unless an angle around the vertex
-//    is below 20 degrees.
+//    leave is flipped away when valid.
+//    (b) Boundary refinement (the simulation is over: from here on new vertices and edges
+//    carry no springs): an edge between faces of different regions whose two ends are on one
+//    chain (the chain whose sides carry those two regions, walked in the direction that keeps
+//    them on their sides) is compared with the chain between its ends; if a chain point lies
+//    farther than boundaryTolerance times the edge's length from it (a corner the compression
+//    cut, a bulge between two vertices), the edge and its two faces are split at the farthest
+//    chain point (or at the middle of the chain piece), the new vertex is on the curve
+//    (pinned on a stop point) and each new face keeps the region of its side; a split whose
+//    faces would have an angle below 15 or above 140 degrees is not made. Where the curve
+//    runs beyond the face across the edge (an inlet deeper than a face) no split is valid:
+//    that face's free vertex, which lies inside the bulge, is placed on the curve instead
+//    (farthest point, or its own closest point of the chain) when its faces keep their
+//    smallest angle above min(15 degrees, the current one), and its faces are classified
+//    again. Up to 8 rounds.
+//    (c) Flips: an edge between two faces of one region, one of them with an angle below 30
+//    degrees, is flipped when both new faces are valid, keep that region and the pair's
+//    smallest angle grows.
+//    (d) Smoothing: a vertex whose faces have an angle below 30 degrees moves, if it is free
+//    and inside one region, toward the centroid of its neighbours or toward one of them (the
+//    candidate with the largest smallest angle, staying in its region), or, if it is on a
+//    curve, along its chain (not onto stop points, no face changing region, no boundary edge
+//    leaving the boundary tolerance or getting farther out of it unless an angle around the
+//    vertex is below 20 degrees), when the smallest angle of its faces grows.
+//    (e) Angle refinement: a face with an angle below 30 degrees whose longest edge is shared
+//    with a face of its region gets that edge split by a free vertex, placed (on the edge or
+//    toward the two faces' centroid) where the four new faces have the largest smallest
+//    angle, if that beats the two faces' and the point lies in their region: the fans of
+//    needles between a finely sampled curve and a coarse side, which no flip can mend.
+//    Rounds of (c), (d), (e) repeat optimizationPasses times (until nothing changes). No
+//    move, flip or split of (c)-(e) lowers the local smallest angle, and region boundaries
+//    stay on the vertices the compression put on curves.
 #include "Compression.h"
 
 #include "Errors.h"
@@ -770,6 +777,9 @@ private:
   Location pieceMiddle(const ChainPiece& piece) const;
   bool canSplit(int t, int k, Vec2 w) const;
   bool splitBoundaryEdge(int t, int k, const Location& at, bool pin);
+  void splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region);
+  void detach();
+  std::size_t refineAngles();
   bool pullIntoBulge(int t, int k, const Location& far);
   Location farthestLocation(const ChainPiece& piece) const;
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
@@ -2672,41 +2682,12 @@ bool Compressor::canSplit(int t, int k, Vec2 w) const
 
 bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
 {
-  std::vector<Vec2>& x = this->Sys->positions();
-  const int u = this->Nbr[t][k];
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-  const int d = this->Tri[u][(j + 2) % 3];
   const Vec2 w = this->Rails.position(at);
   if (!this->canSplit(t, k, w))
   {
     return false;
   }
-  // The new vertex.
-  const int i = static_cast<int>(this->Global.size());
-  const int g = static_cast<int>(this->Result.points.size());
-  this->Global.push_back(g);
-  this->LocalOf.push_back(i);
-  this->Result.points.push_back(w);
-  this->Result.vertexState.push_back(pin ? VertexPinned : VertexOnCurve);
-  this->Points.push_back(w);
-  this->Candidate.push_back(0);
-  this->Push.push_back(0);
-  this->Distance.push_back(0.0);
-  this->JunctionOf.push_back(-1);
-  this->JunctionTarget.push_back(-1);
-  x.push_back(w);
-  this->St.push_back(pin ? Pinned : Rail);
-  this->Target.push_back(w);
-  this->Loc.push_back(at);
-  this->FirstTarget.push_back(at);
-  this->PinOnArrival.push_back(0);
-  this->Stuck.push_back(0);
-  this->Retargets.push_back(0);
-  this->PushSteps.push_back(0);
-  this->Budget.push_back(0);
-  this->VRegion.push_back(kOnCurve);
-  this->H.push_back(0.5 * (this->H[a] + this->H[b]));
+  this->splitEdge(t, k, w, pin ? Pinned : Rail, at, kOnCurve);
   if (pin)
   {
     const int point = this->Rails.pointAt(at);
@@ -2715,6 +2696,46 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
       this->Claimed[this->Rails.chain(at.chain).nodes[point]] = 1;
     }
   }
+  return true;
+}
+
+// Splits edge k of face t (a, b) and its neighbour across it with a new vertex at w, of state
+// `state` (rail location `at` for curve vertices, `region` for free ones):
+// (a, b, c) + (b, a, d) -> (a, w, c) + (w, b, c) + (b, w, d) + (w, a, d); the new faces keep
+// the regions of the faces they come from. The caller checked that all four are valid.
+void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region)
+{
+  std::vector<Vec2>& x = this->Sys->positions();
+  const int u = this->Nbr[t][k];
+  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
+  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
+  const int d = this->Tri[u][(j + 2) % 3];
+  // The new vertex.
+  const int i = static_cast<int>(this->Global.size());
+  const int g = static_cast<int>(this->Result.points.size());
+  this->Global.push_back(g);
+  this->LocalOf.push_back(i);
+  this->Result.points.push_back(w);
+  this->Result.vertexState.push_back(
+    state == Pinned ? VertexPinned : (state == Rail ? VertexOnCurve : VertexFree));
+  this->Points.push_back(w);
+  this->Candidate.push_back(0);
+  this->Push.push_back(0);
+  this->Distance.push_back(0.0);
+  this->JunctionOf.push_back(-1);
+  this->JunctionTarget.push_back(-1);
+  x.push_back(w);
+  this->St.push_back(state);
+  this->Target.push_back(w);
+  this->Loc.push_back(at);
+  this->FirstTarget.push_back(at);
+  this->PinOnArrival.push_back(0);
+  this->Stuck.push_back(0);
+  this->Retargets.push_back(0);
+  this->PushSteps.push_back(0);
+  this->Budget.push_back(0);
+  this->VRegion.push_back(region);
+  this->H.push_back(0.5 * (this->H[a] + this->H[b]));
   // The two new faces.
   const int t2 = static_cast<int>(this->Tri.size()), u2 = t2 + 1;
   const int nBC = this->Nbr[t][(k + 1) % 3], nCA = this->Nbr[t][(k + 2) % 3];
@@ -2759,7 +2780,6 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
     this->RestTwice[f] = this->twiceArea(f);
     this->MinTwice[f] = kCollapse * this->RestTwice[f];
   }
-  return true;
 }
 
 // Whether moving curve vertex i to p (rail location l) keeps its boundary edges within the
@@ -2887,17 +2907,104 @@ bool Compressor::pullIntoBulge(int t, int k, const Location& far)
   return false;
 }
 
+// From here on the springs no longer follow the mesh (no more simulation): vertices and
+// faces may be added.
+void Compressor::detach()
+{
+  this->Detached = true;
+  if (this->FirstAdded == std::numeric_limits<int>::max())
+  {
+    this->FirstAdded = static_cast<int>(this->Global.size());
+  }
+}
+
+// Angle refinement: a face with an angle below kGoodAngle whose longest edge is shared with a
+// face of the same region gets that edge split by a free vertex placed where the four new
+// faces have the largest smallest angle (on the edge's midpoint, or toward the centroid of
+// the two faces), when that is larger than the two faces' smallest angle and the point lies
+// in their region. The fans of needles left where a finely sampled curve faces a coarse side
+// are mostly mended this way (flips cannot: no edge there gives better faces). One round;
+// at most a tenth of the faces are added per round.
+std::size_t Compressor::refineAngles()
+{
+  static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
+  this->detach();
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const int nt = static_cast<int>(this->Tri.size());
+  const std::size_t budget = this->Tri.size() / 10 + 16;
+  std::size_t added = 0;
+  for (int t = 0; t < nt && added < budget; ++t)
+  {
+    this->poll(static_cast<std::size_t>(t));
+    const double m0 = this->triMinAngleSine(t);
+    if (m0 >= goodSine)
+    {
+      continue;
+    }
+    int k = 0;
+    double longest = -1.0;
+    for (int e = 0; e < 3; ++e)
+    {
+      const double l = norm2(x[this->Tri[t][(e + 1) % 3]] - x[this->Tri[t][e]]);
+      if (l > longest)
+      {
+        longest = l;
+        k = e;
+      }
+    }
+    const int u = this->Nbr[t][k];
+    if (u < 0 || this->Tag[u] != this->Tag[t])
+    {
+      continue;
+    }
+    const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
+    const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
+    const int d = this->Tri[u][(j + 2) % 3];
+    const double before = std::min(m0, this->triMinAngleSine(u));
+    const Vec2 mid = 0.5 * (x[a] + x[b]);
+    const Vec2 centroid = 0.25 * (x[a] + x[b] + x[c] + x[d]);
+    double best = before * (1.0 + 1e-3) + 1e-9;
+    Vec2 where{};
+    bool found = false;
+    for (double f : { 0.0, 0.25, 0.5, 0.75, 1.0 })
+    {
+      const Vec2 w = mid + f * (centroid - mid);
+      const std::array<std::array<Vec2, 3>, 4> faces{
+        { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
+      };
+      double m = 1.0;
+      for (const std::array<Vec2, 3>& g : faces)
+      {
+        m = orient2d(g[0], g[1], g[2]) > 0.0 ? std::min(m, minAngleSine(g[0], g[1], g[2])) : -1.0;
+      }
+      if (m > best)
+      {
+        best = m;
+        where = w;
+        found = true;
+      }
+    }
+    if (!found || this->regionAt(where) != this->Tag[t])
+    {
+      continue;
+    }
+    this->splitEdge(t, k, where, Free, Location{}, this->Tag[t]);
+    ++added;
+  }
+  if (added > 0)
+  {
+    this->rebuildStars();
+  }
+  return added;
+}
+
 std::size_t Compressor::refineBoundary()
 {
   if (!(this->Params.boundaryTolerance > 0.0))
   {
     return 0;
   }
-  this->Detached = true;
-  if (this->FirstAdded == std::numeric_limits<int>::max())
-  {
-    this->FirstAdded = static_cast<int>(this->Global.size());
-  }
+  this->detach();
   std::size_t splits = 0;
   for (int round = 0; round < 8; ++round)
   {
@@ -3063,9 +3170,11 @@ void Compressor::run()
       this->Progress.report(this->At, this->Stage);
       const std::size_t flips = this->optimizeFlips();
       const std::size_t moves = this->smooth();
+      const std::size_t inserted = this->refineAngles();
       this->Result.optimizationFlips += flips;
       this->Result.smoothingMoves += moves;
-      if (flips == 0 && moves == 0)
+      this->Result.angleVertices += inserted;
+      if (flips == 0 && moves == 0 && inserted == 0)
       {
         break;
       }

@@ -68,13 +68,15 @@ struct CompressionParams
   /// edge or a junction vertex) are simulated; the rest of the grid is fixed. Range [1, 16].
   int activeRings = 2;
   /// Beyond the paper: after the simulation, snap boundary vertices that are off the curves
-  /// onto them, then flip edges and smooth vertices (free ones in the plane, curve ones along
-  /// their curve) where an angle is below 30 degrees, toward larger minimum angles, never
-  /// changing a face's region and never lowering the smallest angle around the vertex or edge
-  /// touched.
+  /// onto them, refine the boundary (boundaryTolerance), then flip edges, smooth vertices
+  /// (free ones in the plane, curve ones along their curve) and split the longest edge of
+  /// faces (angle refinement) where an angle is below 30 degrees, toward larger minimum
+  /// angles, never changing a face's region and never lowering the smallest angle around the
+  /// vertex or edge touched.
   bool optimize = true;
-  /// Rounds of (flip pass, smoothing pass) of the optimization. Range [0, 100].
-  int optimizationPasses = 6;
+  /// Rounds of (flip pass, smoothing pass, angle refinement) of the optimization; they stop
+  /// earlier when a round changes nothing. Range [0, 100].
+  int optimizationPasses = 12;
   /// Beyond the paper, part of the optimization: an edge of the approximated boundary whose
   /// curve (the part of the chain between its two end vertices) lies farther than this times
   /// the local edge length h from it is split at the curve's farthest point (a corner the
@@ -177,9 +179,10 @@ struct CompressionResult
   std::size_t optimizationFlips = 0;    ///< flips of the quality pass
   std::size_t smoothingMoves = 0;       ///< accepted smoothing moves
   std::size_t boundarySplits = 0;       ///< boundary edges split onto their curve
+  std::size_t angleVertices = 0;        ///< free vertices inserted to mend small angles
   std::size_t bulgeVertices = 0;        ///< free vertices moved onto a curve that bulged past them
-  /// Points [firstInsertedPoint, points.size()) were inserted by the boundary refinement
-  /// (they have no grid position); the others are the grid's points.
+  /// Points [firstInsertedPoint, points.size()) were inserted by the optimization (boundary
+  /// and angle refinement; they have no grid position); the others are the grid's points.
   std::size_t firstInsertedPoint = 0;
   std::size_t offCurveBoundaryVertices = 0; ///< vertices of the region boundary not on a curve
   std::size_t degenerateTriangles = 0;      ///< triangles of zero or negative area left (0)

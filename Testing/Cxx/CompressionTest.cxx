@@ -383,17 +383,28 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
   const strata::CompressionResult r = pipe.run();
   ASSERT_GT(r.boundarySplits, 0u);
   EXPECT_EQ(r.firstInsertedPoint, pipe.mesh.points.size());
-  EXPECT_EQ(r.points.size(), r.firstInsertedPoint + r.boundarySplits);
-  EXPECT_EQ(r.triangles.size(), pipe.mesh.triangles.size() + 2 * r.boundarySplits);
+  // Each boundary split and each angle-refinement split adds one vertex and two faces.
+  EXPECT_EQ(r.points.size(), r.firstInsertedPoint + r.boundarySplits + r.angleVertices);
+  EXPECT_EQ(
+    r.triangles.size(), pipe.mesh.triangles.size() + 2 * (r.boundarySplits + r.angleVertices));
   EXPECT_EQ(r.triangleRegion.size(), r.triangles.size());
   EXPECT_EQ(r.vertexState.size(), r.points.size());
   EXPECT_EQ(nonPositive(r), 0u);
+  std::size_t onCurve = 0, free = 0;
   for (std::size_t i = r.firstInsertedPoint; i < r.points.size(); ++i)
   {
+    if (r.vertexState[i] == strata::VertexFree)
+    {
+      ++free;
+      continue;
+    }
+    ++onCurve;
     EXPECT_TRUE(
       r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned);
     EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << "inserted vertex " << i;
   }
+  EXPECT_EQ(onCurve, r.boundarySplits);
+  EXPECT_EQ(free, r.angleVertices);
   // Where the curve runs beyond the opposite face (an inlet deeper than a triangle), that
   // face's free vertex is moved onto the curve instead: the countries' coasts have such inlets.
   const Pipeline coasts(
@@ -413,7 +424,7 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
   const strata::CompressionResult r0 = pipe.run(off);
   EXPECT_EQ(r0.boundarySplits, 0u);
   EXPECT_EQ(r0.bulgeVertices, 0u);
-  EXPECT_EQ(r0.points.size(), pipe.mesh.points.size());
+  EXPECT_EQ(r0.points.size(), pipe.mesh.points.size() + r0.angleVertices);
 }
 
 TEST(CompressionTest, RejectsAClassificationOfAnotherMesh)
