@@ -91,9 +91,14 @@
 //    toward the two faces' centroid) where the four new faces have the largest smallest
 //    angle, if that beats the two faces' and the point lies in their region: the fans of
 //    needles between a finely sampled curve and a coarse side, which no flip can mend.
-//    Rounds of (c), (d), (e) repeat optimizationPasses times (until nothing changes). No
-//    move, flip or split of (c)-(e) lowers the local smallest angle, and region boundaries
-//    stay on the vertices the compression put on curves.
+//    (f) Collapse: a free or curve vertex inside one region with an angle below 20 degrees
+//    around it, closer than 0.3 local edge lengths to a neighbour (squeezed against it: the
+//    worst slivers), is merged into that neighbour when the link condition holds, no face
+//    inverts and the smallest angle around grows; the edge's two faces disappear.
+//    From (c) on, vertices whose push never arrived are free vertices (reported as stuck).
+//    Rounds of (c), (d), (f), (e) repeat optimizationPasses times (until nothing changes).
+//    No move, flip, split or collapse of (c)-(f) lowers the local smallest angle, and region
+//    boundaries stay on the vertices the compression put on curves.
 #include "Compression.h"
 
 #include "Errors.h"
@@ -103,6 +108,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
@@ -780,6 +786,8 @@ private:
   void splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region);
   void detach();
   std::size_t refineAngles();
+  bool collapseInto(int i, int v);
+  std::size_t collapseSqueezed();
   bool pullIntoBulge(int t, int k, const Location& far);
   Location farthestLocation(const ChainPiece& piece) const;
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
@@ -865,6 +873,7 @@ private:
   // After the simulation (optimization): local edge length per vertex, and the first local id
   // of the vertices inserted by the boundary refinement (they are simulated ones too).
   std::vector<double> H;
+  std::vector<int> StuckVertices; // pushes that never arrived (free during the optimization)
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
 };
@@ -2998,6 +3007,235 @@ std::size_t Compressor::refineAngles()
   return added;
 }
 
+// Collapses vertex i (free, all its faces in one region, its star closed) into its neighbour
+// v: the two faces of edge (i, v) disappear (marked dead: all three corners i, no neighbours,
+// region -1; compress() drops them), i's other faces take v instead. Done only when the link
+// condition holds (i and v share exactly the two other corners of those faces), every face
+// stays counter-clockwise and the smallest angle of the faces around i and v grows. The
+// region boundary does not change: the faces around i all had one region.
+bool Compressor::collapseInto(int i, int v)
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  const int si0 = this->StarStart[i], si1 = this->StarStart[i + 1];
+  const int sv0 = this->StarStart[v], sv1 = this->StarStart[v + 1];
+  std::array<int, 2> f{ -1, -1 };
+  int nf = 0;
+  for (int s = si0; s < si1; ++s)
+  {
+    const int t = this->StarItems[s];
+    const std::array<int, 3>& tri = this->Tri[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      if ((tri[k] == i || tri[(k + 1) % 3] == i) && this->Nbr[t][k] < 0)
+      {
+        return false; // i is on the border of the simulated zone
+      }
+    }
+    if (tri[0] == v || tri[1] == v || tri[2] == v)
+    {
+      if (nf == 2)
+      {
+        return false;
+      }
+      f[nf++] = t;
+    }
+  }
+  if (nf != 2)
+  {
+    return false;
+  }
+  // Link condition: the common neighbours of i and v are the third corners of f.
+  const auto third = [&](int t)
+  {
+    for (int w : this->Tri[t])
+    {
+      if (w != i && w != v)
+      {
+        return w;
+      }
+    }
+    return -1;
+  };
+  const int p = third(f[0]), q = third(f[1]);
+  std::vector<int> ni, nv;
+  for (int s = si0; s < si1; ++s)
+  {
+    for (int w : this->Tri[this->StarItems[s]])
+    {
+      ni.push_back(w);
+    }
+  }
+  for (int s = sv0; s < sv1; ++s)
+  {
+    for (int w : this->Tri[this->StarItems[s]])
+    {
+      nv.push_back(w);
+    }
+  }
+  std::sort(ni.begin(), ni.end());
+  ni.erase(std::unique(ni.begin(), ni.end()), ni.end());
+  std::sort(nv.begin(), nv.end());
+  nv.erase(std::unique(nv.begin(), nv.end()), nv.end());
+  std::vector<int> common;
+  std::set_intersection(ni.begin(), ni.end(), nv.begin(), nv.end(), std::back_inserter(common));
+  common.erase(
+    std::remove_if(common.begin(), common.end(), [&](int w) { return w == i || w == v; }),
+    common.end());
+  if (common.size() != 2 ||
+    !((common[0] == p && common[1] == q) || (common[0] == q && common[1] == p)))
+  {
+    return false;
+  }
+  // Quality.
+  // (v's faces that are not i's do not change: comparing i's faces before with the changed
+  // faces after is enough for the smallest angle around i and v not to drop.)
+  double before = 1.0, after = 1.0;
+  for (int s = si0; s < si1; ++s)
+  {
+    const int t = this->StarItems[s];
+    before = std::min(before, this->triMinAngleSine(t));
+    if (t == f[0] || t == f[1])
+    {
+      continue;
+    }
+    std::array<Vec2, 3> g;
+    for (int k = 0; k < 3; ++k)
+    {
+      g[k] = x[this->Tri[t][k] == i ? v : this->Tri[t][k]];
+    }
+    if (!(orient2d(g[0], g[1], g[2]) > 0.0))
+    {
+      return false;
+    }
+    after = std::min(after, minAngleSine(g[0], g[1], g[2]));
+  }
+  if (!(after > before * (1.0 + 1e-9) + 1e-12))
+  {
+    return false;
+  }
+  // Relink around the two dying faces: across (v, p) and (p, i) (resp. q) their outer
+  // neighbours become neighbours of each other.
+  for (const int t : f)
+  {
+    int kv = -1, ki = -1;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
+      if ((a == i || b == i) && (a == v || b == v))
+      {
+        continue;
+      }
+      (a == v || b == v ? kv : ki) = k;
+    }
+    const int nV = this->Nbr[t][kv], nI = this->Nbr[t][ki];
+    for (const std::pair<int, int>& link : { std::make_pair(nI, nV), std::make_pair(nV, nI) })
+    {
+      if (link.first >= 0)
+      {
+        for (int& m : this->Nbr[link.first])
+        {
+          m = m == t ? link.second : m;
+        }
+      }
+    }
+  }
+  for (int s = si0; s < si1; ++s)
+  {
+    const int t = this->StarItems[s];
+    if (t == f[0] || t == f[1])
+    {
+      continue;
+    }
+    for (int& w : this->Tri[t])
+    {
+      w = w == i ? v : w;
+    }
+    this->RestTwice[t] = this->twiceArea(t);
+    this->MinTwice[t] = kCollapse * this->RestTwice[t];
+  }
+  for (const int t : f)
+  {
+    this->Tri[t] = { i, i, i };
+    this->Nbr[t] = { -1, -1, -1 };
+    this->Tag[t] = -1;
+    this->RestTwice[t] = this->MinTwice[t] = 0.0;
+  }
+  this->St[i] = Halo;
+  return true;
+}
+
+// Free vertices with an angle below kPoorAngle around them, inside one region, closer than
+// 0.3 local edge lengths to a neighbour: collapsed into the nearest such neighbour when
+// collapseInto() allows (a vertex squeezed against a curve vertex makes the worst slivers).
+// Vertices next to a collapse wait for the next round (their stars changed).
+std::size_t Compressor::collapseSqueezed()
+{
+  static const double poorSine = std::sin(kPoorAngle * 3.14159265358979323846 / 180.0);
+  const std::vector<Vec2>& x = this->Sys->positions();
+  std::vector<std::uint8_t> touched(this->Global.size(), 0);
+  std::size_t collapsed = 0;
+  for (int i = 0; i < static_cast<int>(this->Global.size()); ++i)
+  {
+    const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
+    if (touched[i] || !this->active(i) || !(this->St[i] == Free || this->St[i] == Rail) ||
+      s0 == s1 || this->starMinAngle(i, x[i]) >= poorSine)
+    {
+      continue;
+    }
+    bool inside = true;
+    std::vector<int> ring;
+    for (int s = s0; s < s1 && inside; ++s)
+    {
+      const int t = this->StarItems[s];
+      inside = this->Tag[t] == this->Tag[this->StarItems[s0]];
+      for (int w : this->Tri[t])
+      {
+        if (w != i)
+        {
+          ring.push_back(w);
+        }
+      }
+    }
+    if (!inside)
+    {
+      continue;
+    }
+    std::sort(ring.begin(),
+      ring.end(),
+      [&](int a, int b) { return norm2(x[a] - x[i]) < norm2(x[b] - x[i]); });
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    for (int v : ring)
+    {
+      if (norm(x[v] - x[i]) >= 0.3 * this->H[i])
+      {
+        break;
+      }
+      if (touched[v])
+      {
+        continue;
+      }
+      if (this->collapseInto(i, v))
+      {
+        for (int s = s0; s < s1; ++s)
+        {
+          for (int w : this->Tri[this->StarItems[s]])
+          {
+            touched[w] = 1;
+          }
+        }
+        touched[i] = touched[v] = 1;
+        ++collapsed;
+        break;
+      }
+    }
+  }
+  if (collapsed > 0)
+  {
+    this->rebuildStars();
+  }
+  return collapsed;
+}
+
 std::size_t Compressor::refineBoundary()
 {
   if (!(this->Params.boundaryTolerance > 0.0))
@@ -3123,9 +3361,17 @@ void Compressor::writeBack()
     }
     this->Result.vertexState[this->Global[i]] = s;
   }
+  for (const int i : this->StuckVertices)
+  {
+    if (this->St[i] == Free)
+    {
+      this->Result.vertexState[this->Global[i]] = VertexStuck;
+    }
+  }
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
-    this->Result.degenerateTriangles += !(this->twiceArea(static_cast<int>(t)) > 0.0);
+    const bool dead = this->Tri[t][0] == this->Tri[t][1];
+    this->Result.degenerateTriangles += !dead && !(this->twiceArea(static_cast<int>(t)) > 0.0);
   }
   this->Result.offCurveBoundaryVertices = this->offCurveBoundaryVertices().size();
 }
@@ -3164,17 +3410,30 @@ void Compressor::run()
     }
     this->Result.snappedVertices = this->snapBoundaryVertices();
     this->Result.boundarySplits = this->refineBoundary();
+    // Pushes that never arrived are over: those vertices are free ones from here on (smoothed,
+    // collapsed when squeezed), and reported as stuck.
+    this->StuckVertices.clear();
+    for (int i = 0; i < this->NumActive; ++i)
+    {
+      if (this->St[i] == Pushing)
+      {
+        this->St[i] = Free;
+        this->StuckVertices.push_back(i);
+      }
+    }
     for (int pass = 0; pass < this->Params.optimizationPasses; ++pass)
     {
       this->At = 0.8 + 0.2 * pass / this->Params.optimizationPasses;
       this->Progress.report(this->At, this->Stage);
       const std::size_t flips = this->optimizeFlips();
       const std::size_t moves = this->smooth();
+      const std::size_t collapsed = this->collapseSqueezed();
       const std::size_t inserted = this->refineAngles();
+      this->Result.collapsedVertices += collapsed;
       this->Result.optimizationFlips += flips;
       this->Result.smoothingMoves += moves;
       this->Result.angleVertices += inserted;
-      if (flips == 0 && moves == 0 && inserted == 0)
+      if (flips == 0 && moves == 0 && inserted == 0 && collapsed == 0)
       {
         break;
       }
@@ -3232,6 +3491,21 @@ CompressionResult compress(const TriangleMesh& grid,
   }
   Compressor compressor(grid, classification, model, field, params, progress, result);
   compressor.run();
+  // Faces removed by collapses (all three corners equal) leave the result.
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < result.triangles.size(); ++t)
+  {
+    if (result.triangles[t][0] != result.triangles[t][1])
+    {
+      result.triangles[kept] = result.triangles[t];
+      result.triangleLevel[kept] = result.triangleLevel[t];
+      result.triangleRegion[kept] = result.triangleRegion[t];
+      ++kept;
+    }
+  }
+  result.triangles.resize(kept);
+  result.triangleLevel.resize(kept);
+  result.triangleRegion.resize(kept);
   if (result.degenerateTriangles > 0)
   {
     result.warnings.push_back(std::to_string(result.degenerateTriangles) +

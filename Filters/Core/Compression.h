@@ -69,10 +69,10 @@ struct CompressionParams
   int activeRings = 2;
   /// Beyond the paper: after the simulation, snap boundary vertices that are off the curves
   /// onto them, refine the boundary (boundaryTolerance), then flip edges, smooth vertices
-  /// (free ones in the plane, curve ones along their curve) and split the longest edge of
-  /// faces (angle refinement) where an angle is below 30 degrees, toward larger minimum
-  /// angles, never changing a face's region and never lowering the smallest angle around the
-  /// vertex or edge touched.
+  /// (free ones in the plane, curve ones along their curve), collapse squeezed vertices and
+  /// split the longest edge of faces (angle refinement) where an angle is below 30 degrees,
+  /// toward larger minimum angles, never changing a face's region and never lowering the
+  /// smallest angle around the vertex or edge touched.
   bool optimize = true;
   /// Rounds of (flip pass, smoothing pass, angle refinement) of the optimization; they stop
   /// earlier when a round changes nothing. Range [0, 100].
@@ -180,7 +180,10 @@ struct CompressionResult
   std::size_t smoothingMoves = 0;       ///< accepted smoothing moves
   std::size_t boundarySplits = 0;       ///< boundary edges split onto their curve
   std::size_t angleVertices = 0;        ///< free vertices inserted to mend small angles
-  std::size_t bulgeVertices = 0;        ///< free vertices moved onto a curve that bulged past them
+  /// Free vertices collapsed into a neighbour (squeezed ones); they stay in points, used by
+  /// no triangle.
+  std::size_t collapsedVertices = 0;
+  std::size_t bulgeVertices = 0; ///< free vertices moved onto a curve that bulged past them
   /// Points [firstInsertedPoint, points.size()) were inserted by the optimization (boundary
   /// and angle refinement; they have no grid position); the others are the grid's points.
   std::size_t firstInsertedPoint = 0;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -288,6 +289,43 @@ TEST(CompressionTest, RailVerticesStayOnTheirCurve)
   }
 }
 
+// The optimization collapses vertices squeezed against a neighbour (the worst slivers): the
+// two faces of the edge disappear, nothing inverts, the collapsed vertex is left unused, and
+// the smallest angle is better than without the optimization's later rounds.
+TEST(CompressionTest, SqueezedVerticesAreCollapsedWithoutInvertingFaces)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp")), 9);
+  const strata::CompressionResult r = pipe.run();
+  ASSERT_GT(r.collapsedVertices, 0u);
+  EXPECT_EQ(nonPositive(r), 0u);
+  EXPECT_EQ(r.degenerateTriangles, 0u);
+  std::vector<int> uses(r.points.size(), 0);
+  for (const auto& t : r.triangles)
+  {
+    EXPECT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+    for (int v : t)
+    {
+      ++uses[v];
+    }
+  }
+  std::size_t unused = 0;
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+  {
+    unused += uses[i] == 0 && r.vertexState[i] != strata::VertexUntouched;
+  }
+  EXPECT_GE(unused, r.collapsedVertices);
+  // Each undirected edge in at most two faces, in opposite directions.
+  std::map<std::pair<int, int>, int> directed;
+  for (const auto& t : r.triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::pair<int, int> edge(t[k], t[(k + 1) % 3]);
+      EXPECT_EQ(++directed[edge], 1);
+    }
+  }
+}
+
 TEST(CompressionTest, JunctionVerticesLieExactlyOnJunctions)
 {
   for (const char* name : { "salt_dome.vtp", "pinch_out.vtp", "countries_westeurope.vtp" })
@@ -383,17 +421,23 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
   const strata::CompressionResult r = pipe.run();
   ASSERT_GT(r.boundarySplits, 0u);
   EXPECT_EQ(r.firstInsertedPoint, pipe.mesh.points.size());
-  // Each boundary split and each angle-refinement split adds one vertex and two faces.
+  // Each boundary split and each angle-refinement split adds one vertex and two faces; each
+  // collapse removes two faces (the vertex stays, unused).
   EXPECT_EQ(r.points.size(), r.firstInsertedPoint + r.boundarySplits + r.angleVertices);
-  EXPECT_EQ(
-    r.triangles.size(), pipe.mesh.triangles.size() + 2 * (r.boundarySplits + r.angleVertices));
+  EXPECT_EQ(r.triangles.size() + 2 * r.collapsedVertices,
+    pipe.mesh.triangles.size() + 2 * (r.boundarySplits + r.angleVertices));
   EXPECT_EQ(r.triangleRegion.size(), r.triangles.size());
   EXPECT_EQ(r.vertexState.size(), r.points.size());
   EXPECT_EQ(nonPositive(r), 0u);
+  std::vector<std::uint8_t> used(r.points.size(), 0);
+  for (const auto& t : r.triangles)
+  {
+    used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  }
   std::size_t onCurve = 0, free = 0;
   for (std::size_t i = r.firstInsertedPoint; i < r.points.size(); ++i)
   {
-    if (r.vertexState[i] == strata::VertexFree)
+    if (r.vertexState[i] == strata::VertexFree || !used[i])
     {
       ++free;
       continue;
