@@ -91,7 +91,7 @@
 //    toward the two faces' centroid) where the four new faces have the largest smallest
 //    angle, if that beats the two faces' and the point lies in their region: the fans of
 //    needles between a finely sampled curve and a coarse side, which no flip can mend.
-//    (f) Collapse: a free or curve vertex inside one region with an angle below 20 degrees
+//    (f) Collapse: a free or curve vertex inside one region with an angle below 30 degrees
 //    around it, closer than 0.3 local edge lengths to a neighbour (squeezed against it: the
 //    worst slivers), is merged into that neighbour when the link condition holds, no face
 //    inverts and the smallest angle around grows; the edge's two faces disappear.
@@ -788,6 +788,7 @@ private:
   std::size_t refineAngles();
   bool collapseInto(int i, int v);
   std::size_t collapseSqueezed();
+  void collectBad();
   bool pullIntoBulge(int t, int k, const Location& far);
   Location farthestLocation(const ChainPiece& piece) const;
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
@@ -874,6 +875,9 @@ private:
   // of the vertices inserted by the boundary refinement (they are simulated ones too).
   std::vector<double> H;
   std::vector<int> StuckVertices; // pushes that never arrived (free during the optimization)
+  // Faces with an angle below kGoodAngle at the start of an optimization round, and their
+  // corners (ascending): the rounds only look at these.
+  std::vector<int> BadFaces, BadVertices;
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
 };
@@ -2333,16 +2337,15 @@ std::size_t Compressor::optimizeFlips()
   for (int pass = 0; pass < 8; ++pass)
   {
     std::size_t now = 0;
-    for (std::size_t t = 0; t < this->Tri.size(); ++t)
+    for (const int t : this->BadFaces)
     {
-      this->poll(t);
+      this->poll(static_cast<std::size_t>(&t - this->BadFaces.data()));
       for (int k = 0; k < 3; ++k)
       {
         const int u = this->Nbr[t][k];
         if (u >= 0 && this->Tag[u] == this->Tag[t] &&
-          (this->triMinAngleSine(static_cast<int>(t)) < goodSine ||
-            this->triMinAngleSine(u) < goodSine) &&
-          this->tryFlip(static_cast<int>(t), k, false))
+          (this->triMinAngleSine(t) < goodSine || this->triMinAngleSine(u) < goodSine) &&
+          this->tryFlip(t, k, false))
         {
           ++now;
           break;
@@ -2381,7 +2384,7 @@ std::size_t Compressor::smooth()
   static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
   std::vector<Vec2>& x = this->Sys->positions();
-  for (int i = 0; i < static_cast<int>(this->Global.size()); ++i)
+  for (const int i : this->BadVertices)
   {
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (!this->active(i))
@@ -2942,9 +2945,14 @@ std::size_t Compressor::refineAngles()
   const int nt = static_cast<int>(this->Tri.size());
   const std::size_t budget = this->Tri.size() / 10 + 16;
   std::size_t added = 0;
-  for (int t = 0; t < nt && added < budget; ++t)
+  for (std::size_t n = 0; n < this->BadFaces.size() && added < budget; ++n)
   {
-    this->poll(static_cast<std::size_t>(t));
+    const int t = this->BadFaces[n];
+    this->poll(n);
+    if (t >= nt)
+    {
+      continue;
+    }
     const double m0 = this->triMinAngleSine(t);
     if (m0 >= goodSine)
     {
@@ -3164,21 +3172,21 @@ bool Compressor::collapseInto(int i, int v)
   return true;
 }
 
-// Free vertices with an angle below kPoorAngle around them, inside one region, closer than
-// 0.3 local edge lengths to a neighbour: collapsed into the nearest such neighbour when
-// collapseInto() allows (a vertex squeezed against a curve vertex makes the worst slivers).
-// Vertices next to a collapse wait for the next round (their stars changed).
+// Free or curve vertices with an angle below kGoodAngle around them, inside one region,
+// closer than 0.3 local edge lengths to a neighbour: collapsed into the nearest such
+// neighbour when collapseInto() allows (a vertex squeezed against a curve vertex makes the
+// worst slivers). Vertices next to a collapse wait for the next round (their stars changed).
 std::size_t Compressor::collapseSqueezed()
 {
-  static const double poorSine = std::sin(kPoorAngle * 3.14159265358979323846 / 180.0);
+  static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   const std::vector<Vec2>& x = this->Sys->positions();
   std::vector<std::uint8_t> touched(this->Global.size(), 0);
   std::size_t collapsed = 0;
-  for (int i = 0; i < static_cast<int>(this->Global.size()); ++i)
+  for (const int i : this->BadVertices)
   {
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (touched[i] || !this->active(i) || !(this->St[i] == Free || this->St[i] == Rail) ||
-      s0 == s1 || this->starMinAngle(i, x[i]) >= poorSine)
+      s0 == s1 || this->starMinAngle(i, x[i]) >= goodSine)
     {
       continue;
     }
@@ -3234,6 +3242,31 @@ std::size_t Compressor::collapseSqueezed()
     this->rebuildStars();
   }
   return collapsed;
+}
+
+void Compressor::collectBad()
+{
+  static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
+  this->BadFaces.clear();
+  this->BadVertices.clear();
+  std::vector<std::uint8_t> mark(this->Global.size(), 0);
+  for (int t = 0; t < static_cast<int>(this->Tri.size()); ++t)
+  {
+    this->poll(static_cast<std::size_t>(t));
+    if (this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine)
+    {
+      this->BadFaces.push_back(t);
+      for (int v : this->Tri[t])
+      {
+        if (!mark[v])
+        {
+          mark[v] = 1;
+          this->BadVertices.push_back(v);
+        }
+      }
+    }
+  }
+  std::sort(this->BadVertices.begin(), this->BadVertices.end());
 }
 
 std::size_t Compressor::refineBoundary()
@@ -3425,6 +3458,7 @@ void Compressor::run()
     {
       this->At = 0.8 + 0.2 * pass / this->Params.optimizationPasses;
       this->Progress.report(this->At, this->Stage);
+      this->collectBad();
       const std::size_t flips = this->optimizeFlips();
       const std::size_t moves = this->smooth();
       const std::size_t collapsed = this->collapseSqueezed();
