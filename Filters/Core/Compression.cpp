@@ -165,6 +165,18 @@ inline double minAngleSine(Vec2 a, Vec2 b, Vec2 c)
 
 } // namespace
 
+// Cosine of the largest angle of abc (decreasing in the angle).
+inline double largestAngleCosine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const auto cosAt = [](Vec2 p, Vec2 q, Vec2 r)
+  {
+    const Vec2 u = q - p, v = r - p;
+    const double n = norm(u) * norm(v);
+    return n > 0.0 ? dot(u, v) / n : 1.0;
+  };
+  return std::min({ cosAt(a, b, c), cosAt(b, c, a), cosAt(c, a, b) });
+}
+
 void validate(const CompressionParams& p)
 {
   checkRange(p.springConfiguration == SpringConfiguration::EdgeOnly ||
@@ -787,6 +799,7 @@ private:
   void detach();
   std::size_t refineAngles();
   bool collapseInto(int i, int v);
+  bool insidePiece(const ChainPiece& piece, const Location& l) const;
   std::size_t collapseSqueezed();
   void collectBad();
   bool pullIntoBulge(int t, int k, const Location& far);
@@ -2970,42 +2983,115 @@ std::size_t Compressor::refineAngles()
       }
     }
     const int u = this->Nbr[t][k];
-    if (u < 0 || this->Tag[u] != this->Tag[t])
+    if (u < 0)
     {
       continue;
     }
     const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
     const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
     const int d = this->Tri[u][(j + 2) % 3];
-    const double before = std::min(m0, this->triMinAngleSine(u));
+    // Candidates: inside one region, points on the edge (its middle, the feet of c and d) and
+    // toward the two faces' centroid; on a region boundary (two curve vertices), the points
+    // of the curve piece closest to those.
+    const bool boundary = this->Tag[u] != this->Tag[t];
+    ChainPiece piece;
+    if (boundary)
+    {
+      if (!this->onCurve(a) || !this->onCurve(b))
+      {
+        continue;
+      }
+      piece = this->boundaryPiece(t, k);
+      if (piece.deviation < 0.0)
+      {
+        continue;
+      }
+    }
+    const Vec2 ab = x[b] - x[a];
+    const auto foot = [&](Vec2 p)
+    {
+      const double f = std::clamp(dot(p - x[a], ab) / norm2(ab), 0.1, 0.9);
+      return x[a] + f * ab;
+    };
     const Vec2 mid = 0.5 * (x[a] + x[b]);
     const Vec2 centroid = 0.25 * (x[a] + x[b] + x[c] + x[d]);
-    double best = before * (1.0 + 1e-3) + 1e-9;
-    Vec2 where{};
-    bool found = false;
-    for (double f : { 0.0, 0.25, 0.5, 0.75, 1.0 })
+    std::vector<Vec2> points{ mid, foot(x[c]), foot(x[d]) };
+    if (!boundary)
     {
-      const Vec2 w = mid + f * (centroid - mid);
+      for (double f : { 0.25, 0.5, 0.75, 1.0 })
+      {
+        points.push_back(mid + f * (centroid - mid));
+      }
+    }
+    const double before = std::min(m0, this->triMinAngleSine(u));
+    const double beforeCos =
+      std::min(largestAngleCosine(x[a], x[b], x[c]), largestAngleCosine(x[b], x[a], x[d]));
+    // The best candidate: the largest smallest angle; a smaller largest angle breaks ties
+    // (a flat face split at the foot of its obtuse corner keeps its small angles).
+    double bestM = before * (1.0 + 1e-3) + 1e-9, bestCos = 2.0;
+    Vec2 where{};
+    Location whereOnCurve;
+    bool found = false;
+    for (const Vec2& p : points)
+    {
+      Vec2 w = p;
+      Location l;
+      if (boundary)
+      {
+        l = this->Rails.closest(p, this->RailScratch);
+        if (!this->insidePiece(piece, l))
+        {
+          continue;
+        }
+        w = this->Rails.position(l);
+      }
       const std::array<std::array<Vec2, 3>, 4> faces{
         { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
       };
-      double m = 1.0;
+      double m = 1.0, cm = 1.0;
       for (const std::array<Vec2, 3>& g : faces)
       {
         m = orient2d(g[0], g[1], g[2]) > 0.0 ? std::min(m, minAngleSine(g[0], g[1], g[2])) : -1.0;
+        cm = std::min(cm, largestAngleCosine(g[0], g[1], g[2]));
       }
-      if (m > best)
+      const bool better = m > bestM ||
+        (m >= before * (1.0 - 1e-9) && m > 0.0 && cm > beforeCos + 0.02 &&
+          (bestCos > 1.5 || cm > bestCos) && !found);
+      if (better)
       {
-        best = m;
+        bestM = std::max(bestM, m);
+        bestCos = cm;
         where = w;
+        whereOnCurve = l;
         found = true;
       }
     }
-    if (!found || this->regionAt(where) != this->Tag[t])
+    if (!found)
     {
       continue;
     }
-    this->splitEdge(t, k, where, Free, Location{}, this->Tag[t]);
+    if (boundary)
+    {
+      const int point = this->Rails.pointAt(whereOnCurve);
+      const bool pin = point >= 0 && this->Rails.isStop(whereOnCurve.chain, point);
+      if (pin && this->Claimed[this->Rails.chain(whereOnCurve.chain).nodes[point]])
+      {
+        continue;
+      }
+      this->splitEdge(t, k, where, pin ? Pinned : Rail, whereOnCurve, kOnCurve);
+      if (pin)
+      {
+        this->Claimed[this->Rails.chain(whereOnCurve.chain).nodes[point]] = 1;
+      }
+    }
+    else
+    {
+      if (this->regionAt(where) != this->Tag[t])
+      {
+        continue;
+      }
+      this->splitEdge(t, k, where, Free, Location{}, this->Tag[t]);
+    }
     ++added;
   }
   if (added > 0)
@@ -3013,6 +3099,26 @@ std::size_t Compressor::refineAngles()
     this->rebuildStars();
   }
   return added;
+}
+
+// Whether rail location l lies strictly inside a chain piece (between its two ends).
+bool Compressor::insidePiece(const ChainPiece& piece, const Location& l) const
+{
+  if (l.chain != piece.chain)
+  {
+    return false;
+  }
+  const BoundaryRails::Chain& c = this->Rails.chain(piece.chain);
+  const double n = static_cast<double>(c.numberOfSegments());
+  const double sl = l.segment + l.t;
+  double travel = piece.forward ? piece.to - piece.from : piece.from - piece.to;
+  double along = piece.forward ? sl - piece.from : piece.from - sl;
+  if (c.closed)
+  {
+    travel = std::fmod(travel + n, n);
+    along = std::fmod(along + n, n);
+  }
+  return along > 1e-9 && along < travel - 1e-9;
 }
 
 // Collapses vertex i (free, all its faces in one region, its star closed) into its neighbour

@@ -447,8 +447,10 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
       r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned);
     EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << "inserted vertex " << i;
   }
-  EXPECT_EQ(onCurve, r.boundarySplits);
-  EXPECT_EQ(free, r.angleVertices);
+  // Angle refinement may split boundary edges too (on the curve), so at least the boundary
+  // refinement's vertices are on curves; the free ones are angle refinement's.
+  EXPECT_GE(onCurve, r.boundarySplits);
+  EXPECT_LE(free, r.angleVertices);
   // Where the curve runs beyond the opposite face (an inlet deeper than a triangle), that
   // face's free vertex is moved onto the curve instead: the countries' coasts have such inlets.
   const Pipeline coasts(
