@@ -210,6 +210,8 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
   vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));
+  vtkStrataMeshOutput::AddField(
+    fd, "TrianglesAtSharpCorners", static_cast<int>(s.trianglesAtSharpCorners));
   auto unresolved = vtkSmartPointer<vtkIntArray>::New();
   unresolved->SetName("UnresolvedRegions");
   for (int id : result.unresolvedRegions)

@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace strata
@@ -32,6 +33,56 @@ using Clock = std::chrono::steady_clock;
 // A region whose triangles cover less than this share of its model area is reported as
 // unresolved (too thin or too small for the finest triangles).
 constexpr double kUnresolvedFraction = 0.5;
+
+// Triangles whose smallest angle (below kSharpCorner degrees) sits on a model node where a
+// region's own angle is below kSharpCorner: the input forces them (a vertex is placed exactly
+// on every junction and on the corners the rails stop at).
+std::size_t trianglesAtSharpCorners(const Model& model,
+  const std::vector<Vec2>& points,
+  const std::vector<std::array<int, 3>>& triangles,
+  const std::vector<double>& minAngle)
+{
+  constexpr double kSharpCorner = 25.0;
+  constexpr double kPi = 3.14159265358979323846;
+  // Each region lies to the left of its rings: its angle at a ring point is the
+  // counter-clockwise turn from the next point's direction to the previous point's.
+  std::map<std::pair<double, double>, double> sharp;
+  for (const Region& region : model.regions)
+  {
+    for (const Ring& ring : region.rings)
+    {
+      const std::size_t n = ring.points.size();
+      for (std::size_t i = 0; i < n && n >= 3; ++i)
+      {
+        const Vec2 p = ring.points[i];
+        const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
+        double angle = std::atan2(cross(next, prev), dot(next, prev)) * 180.0 / kPi;
+        angle = angle <= 0.0 ? angle + 360.0 : angle;
+        if (angle < kSharpCorner)
+        {
+          const std::pair<double, double> key(p.x, p.y);
+          const auto it = sharp.find(key);
+          sharp[key] = it == sharp.end() ? angle : std::min(it->second, angle);
+        }
+      }
+    }
+  }
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < triangles.size() && !sharp.empty(); ++t)
+  {
+    if (!(minAngle[t] < kSharpCorner))
+    {
+      continue;
+    }
+    const std::array<int, 3>& tri = triangles[t];
+    const std::array<double, 3> angles =
+      triangleAngles(points[tri[0]], points[tri[1]], points[tri[2]]);
+    const int k = static_cast<int>(std::min_element(angles.begin(), angles.end()) - angles.begin());
+    const Vec2 p = points[tri[k]];
+    count += sharp.count({ p.x, p.y }) > 0;
+  }
+  return count;
+}
 
 double ringArea(const Ring& ring)
 {
@@ -284,6 +335,8 @@ MesherResult triangulate(const RawPolylines& input,
     result.area[t] = q[t].area;
   }
   const QualitySummary qs = summarizeQuality(q);
+  result.summary.trianglesAtSharpCorners =
+    trianglesAtSharpCorners(model, result.points, result.triangles, result.minAngle);
   if (qs.inverted + qs.degenerate > 0)
   {
     result.warnings.push_back(

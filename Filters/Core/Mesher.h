@@ -84,6 +84,9 @@ struct MesherResult
     int iterations = 0; ///< simulation steps
     /// Edges of the approximated boundary split onto their curve by the boundary refinement.
     std::size_t boundarySplits = 0;
+    /// Triangles with a smallest angle below 25 degrees at a model corner sharper than 25
+    /// degrees (a region's angle there): the input forces them, they are kept, not mended.
+    std::size_t trianglesAtSharpCorners = 0;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;

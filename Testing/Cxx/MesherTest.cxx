@@ -1,6 +1,7 @@
 // End-to-end tests of the triangulation pipeline on every model in Data/.
 #include "Mesher.h"
 #include "Compression.h"
+#include "CoreTestUtilities.h"
 #include "Errors.h"
 #include "VtpAscii.h"
 
@@ -438,3 +439,53 @@ INSTANTIATE_TEST_SUITE_P(DataModels,
   DefaultQuality,
   ::testing::ValuesIn(kDefaultCases),
   defaultCaseName);
+
+// A 10-degree wedge (region 1) from the middle of a 100 x 100 square's left side, between
+// regions 0 (below) and 2 (above), Shared curves form: the wedge ends cleanly where it is
+// thinner than the triangles (its tip goes to its neighbours): no triangle below 25 degrees
+// at the 10-degree corner, none below 20 anywhere, the junction still has its vertex, and the
+// wedge keeps its area but for the tip.
+TEST(MesherTest, ASharpWedgeEndsCleanlyWithoutSmallAngles)
+{
+  const double d = 100.0 * std::tan(5.0 * 3.14159265358979323846 / 180.0);
+  strata::RawPolylines wedge;
+  strata_test::addCurve(wedge, { { 0, 0 }, { 100, 0 } }, 0, -1);
+  strata_test::addCurve(wedge, { { 100, 0 }, { 100, 50 - d } }, 0, -1);
+  strata_test::addCurve(wedge, { { 0, 50 }, { 100, 50 - d } }, 1, 0);
+  strata_test::addCurve(wedge, { { 100, 50 - d }, { 100, 50 + d } }, 1, -1);
+  strata_test::addCurve(wedge, { { 0, 50 }, { 100, 50 + d } }, 2, 1);
+  strata_test::addCurve(wedge, { { 100, 50 + d }, { 100, 100 } }, 2, -1);
+  strata_test::addCurve(wedge, { { 100, 100 }, { 0, 100 } }, 2, -1);
+  strata_test::addCurve(wedge, { { 0, 100 }, { 0, 50 } }, 2, -1);
+  strata_test::addCurve(wedge, { { 0, 50 }, { 0, 0 } }, 0, -1);
+  const strata::MesherResult r = strata::triangulate(wedge);
+  ASSERT_GT(r.triangles.size(), 100u);
+  EXPECT_GE(r.summary.minAngle, 20.0);
+  EXPECT_EQ(r.summary.trianglesAtSharpCorners, 0u);
+  bool junction = false;
+  for (const Vec2& p : r.points)
+  {
+    junction = junction || p + r.origin == Vec2{ 0.0, 50.0 };
+  }
+  EXPECT_TRUE(junction);
+  for (const auto& ra : r.regionAreas)
+  {
+    EXPECT_NEAR(ra.mesh, ra.model, 0.01 * ra.model) << "region " << ra.id;
+  }
+}
+
+// Where a junction is too sharp to cut (Marmousi's 3.8-degree junctions), the triangles
+// below 25 degrees whose smallest angle sits on such a corner are counted; a square has none.
+TEST(MesherTest, TrianglesAtSharpInputCornersAreCounted)
+{
+  const strata::MesherResult r =
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp")));
+  const std::size_t below25 = static_cast<std::size_t>(
+    std::count_if(r.minAngle.begin(), r.minAngle.end(), [](double a) { return a < 25.0; }));
+  EXPECT_GE(r.summary.trianglesAtSharpCorners, 1u);
+  EXPECT_LE(r.summary.trianglesAtSharpCorners, below25);
+  strata::RawPolylines square;
+  strata_test::addClosedLoop(
+    square, { { 0.0, 0.0 }, { 100.0, 0.0 }, { 100.0, 100.0 }, { 0.0, 100.0 } }, 0);
+  EXPECT_EQ(strata::triangulate(square).summary.trianglesAtSharpCorners, 0u);
+}

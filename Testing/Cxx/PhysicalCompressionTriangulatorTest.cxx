@@ -77,10 +77,18 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
   EXPECT_NEAR(total, 1000.0 * 100.0, 0.02 * 1000.0 * 100.0);
 
   vtkFieldData* fd = mesh->GetFieldData();
-  for (const char* name : { "NumberOfTriangles", "NumberOfVertices", "MinimumAngle",
-         "MaximumAngle", "PercentAngles30To60", "PercentTriangles30To60",
-         "MaxBoundaryDeviation", "Iterations", "SecondsTotal", "BoundarySplits",
-         "UnresolvedRegions" })
+  for (const char* name : { "NumberOfTriangles",
+         "NumberOfVertices",
+         "MinimumAngle",
+         "MaximumAngle",
+         "PercentAngles30To60",
+         "PercentTriangles30To60",
+         "MaxBoundaryDeviation",
+         "Iterations",
+         "SecondsTotal",
+         "BoundarySplits",
+         "UnresolvedRegions",
+         "TrianglesAtSharpCorners" })
   {
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }
@@ -159,7 +167,8 @@ TEST(PhysicalCompressionTriangulatorTest, abort_stops_the_request_early)
   vtkNew<vtkPhysicalCompressionTriangulator> mesher;
   mesher->SetInputConnection(reader->GetOutputPort());
   vtkNew<vtkCallbackCommand> abort;
-  abort->SetCallback([](vtkObject* caller, unsigned long, void*, void* progress)
+  abort->SetCallback(
+    [](vtkObject* caller, unsigned long, void*, void* progress)
     {
       if (*static_cast<double*>(progress) > 0.3)
       {

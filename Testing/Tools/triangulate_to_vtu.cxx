@@ -230,7 +230,7 @@ int main(int argc, char** argv)
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
-                " \"boundary_splits\": %zu,\n",
+                " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -242,7 +242,8 @@ int main(int argc, char** argv)
       100.0 * s.maxRegionAreaError,
       s.iterations,
       s.totalSeconds,
-      s.boundarySplits);
+      s.boundarySplits,
+      s.trianglesAtSharpCorners);
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {
