@@ -10,7 +10,8 @@
  * pushed onto it, slide along it as on rails, stop at sharp points, one vertex sits on every
  * junction, degenerate triangles get their longest edge flipped, and every triangle is tagged
  * with the region of its barycentre. An optional pass beyond the paper (Optimization) then
- * flips edges and smooths vertices toward larger angles.
+ * refines the boundary onto the curves, flips edges, smooths, merges squeezed vertices and
+ * splits bad triangles toward larger angles.
  *
  * Input: a vtkPolyData of line cells in either StrataMesh form (Loops with `RegionId`, or
  * Shared curves with `LeftRegion`/`RightRegion`).
@@ -22,7 +23,11 @@
  * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
- * `MaxRegionAreaError` (relative), `Iterations` and `Seconds<Stage>` per stage.
+ * `MaxRegionAreaError` (relative), `Iterations`, `BoundarySplits`, `UnresolvedRegions` (ids
+ * of the regions keeping less than half their area, also named in a warning),
+ * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
+ * that) and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the optimization
+ * inserted.
  *
  * Output port 1: the approximated boundary (edges whose two triangles have different
  * regions, and the outer border) as polylines in the Shared curves form, with cell arrays
@@ -164,9 +169,10 @@ public:
 
   ///@{
   /**
-   * Beyond the paper: after the compression, flip edges and smooth vertices (boundary ones
-   * along their curve) toward larger minimum angles, never changing a triangle's region.
-   * Default on; off reproduces the paper's method.
+   * Beyond the paper: after the compression, refine the boundary (BoundaryTolerance), then
+   * flip edges, smooth vertices (boundary ones along their curve), merge squeezed vertices
+   * and split the longest edge of bad triangles, toward larger minimum angles, never changing
+   * a triangle's region. Default on; off reproduces the paper's method.
    */
   vtkSetMacro(Optimization, vtkTypeBool);
   vtkGetMacro(Optimization, vtkTypeBool);
