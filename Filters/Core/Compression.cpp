@@ -805,6 +805,29 @@ private:
   bool pullIntoBulge(int t, int k, const Location& far);
   Location farthestLocation(const ChainPiece& piece) const;
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
+  // Calls act(t, k, piece) for every boundary edge out of tolerance among the faces present
+  // at the call (each edge once); act returns true when it changed face t, whose other edges
+  // are then skipped. Returns how many calls returned true.
+  template<typename Act>
+  std::size_t forEachDeviatingEdge(Act&& act)
+  {
+    std::size_t changed = 0;
+    const int nt = static_cast<int>(this->Tri.size());
+    ChainPiece piece;
+    for (int t = 0; t < nt; ++t)
+    {
+      this->poll(static_cast<std::size_t>(t));
+      for (int k = 0; k < 3; ++k)
+      {
+        if (this->deviatingEdge(t, k, nt, piece) && act(t, k, piece))
+        {
+          ++changed;
+          break;
+        }
+      }
+    }
+    return changed;
+  }
   bool followsCurves(int i, Vec2 p, const Location& l);
   std::size_t refineBoundary();
   bool active(int i) const { return i < this->NumActive || i >= this->FirstAdded; }
@@ -3386,63 +3409,31 @@ std::size_t Compressor::refineBoundary()
   for (int round = 0; round < 8; ++round)
   {
     // Splits at the farthest curve point, or at the middle of the curve piece.
-    std::size_t now = 0;
-    int nt = static_cast<int>(this->Tri.size());
-    ChainPiece piece;
-    for (int t = 0; t < nt; ++t)
-    {
-      this->poll(static_cast<std::size_t>(t));
-      for (int k = 0; k < 3; ++k)
+    const std::size_t now = this->forEachDeviatingEdge(
+      [&](int t, int k, const ChainPiece& piece)
       {
-        if (!this->deviatingEdge(t, k, nt, piece))
-        {
-          continue;
-        }
         const Location far = this->farthestLocation(piece);
-        bool split =
-          this->splitBoundaryEdge(t, k, far, this->Rails.isStop(far.chain, piece.farthest));
-        if (!split)
+        if (this->splitBoundaryEdge(t, k, far, this->Rails.isStop(far.chain, piece.farthest)))
         {
-          const Location middle = this->pieceMiddle(piece);
-          const int point = this->Rails.pointAt(middle);
-          split = this->splitBoundaryEdge(
-            t, k, middle, point >= 0 && this->Rails.isStop(piece.chain, point));
+          return true;
         }
-        if (split)
-        {
-          ++now;
-          break;
-        }
-      }
-    }
+        const Location middle = this->pieceMiddle(piece);
+        const int point = this->Rails.pointAt(middle);
+        return this->splitBoundaryEdge(
+          t, k, middle, point >= 0 && this->Rails.isStop(piece.chain, point));
+      });
     splits += now;
     // Edges that cannot be split because the curve runs beyond the opposite face: pull that
     // face's free vertex onto the curve (the next round splits what is left).
     this->rebuildStars();
-    std::size_t pulled = 0;
-    nt = static_cast<int>(this->Tri.size());
-    for (int t = 0; t < nt; ++t)
-    {
-      this->poll(static_cast<std::size_t>(t));
-      for (int k = 0; k < 3; ++k)
+    const std::size_t pulled = this->forEachDeviatingEdge(
+      [&](int t, int k, const ChainPiece& piece)
       {
-        if (!this->deviatingEdge(t, k, nt, piece))
-        {
-          continue;
-        }
         const Location far = this->farthestLocation(piece);
-        if (this->canSplit(t, k, this->Rails.position(far)) ||
-          this->canSplit(t, k, this->Rails.position(this->pieceMiddle(piece))))
-        {
-          continue; // the next round splits it
-        }
-        if (this->pullIntoBulge(t, k, far))
-        {
-          ++pulled;
-          break;
-        }
-      }
-    }
+        return !this->canSplit(t, k, this->Rails.position(far)) &&
+          !this->canSplit(t, k, this->Rails.position(this->pieceMiddle(piece))) &&
+          this->pullIntoBulge(t, k, far); // (a splittable edge waits for the next round)
+      });
     this->Result.bulgeVertices += pulled;
     if (now == 0 && pulled == 0)
     {

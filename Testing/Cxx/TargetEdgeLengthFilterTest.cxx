@@ -184,6 +184,14 @@ std::pair<int, double> Ring(vtkUnstructuredGrid* mesh, const double centre[2], d
   return { count, count ? sum / count : 0.0 };
 }
 
+// A triangulator with default settings reading `reader`'s output.
+vtkSmartPointer<vtkPhysicalCompressionTriangulator> Triangulator(vtkAlgorithm* reader)
+{
+  auto mesher = vtkSmartPointer<vtkPhysicalCompressionTriangulator>::New();
+  mesher->SetInputConnection(reader->GetOutputPort());
+  return mesher;
+}
+
 } // namespace
 
 TEST(TargetEdgeLengthFilterTest, an_image_field_refines_its_disc_and_coarsens_elsewhere)
@@ -196,11 +204,9 @@ TEST(TargetEdgeLengthFilterTest, an_image_field_refines_its_disc_and_coarsens_el
   const double large = w / 10.0;
 
   auto reader = Reader("salt_dome.vtp");
-  vtkNew<vtkPhysicalCompressionTriangulator> plain;
-  plain->SetInputConnection(reader->GetOutputPort());
+  auto plain = Triangulator(reader);
   plain->Update();
-  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
-  mesher->SetInputConnection(reader->GetOutputPort());
+  auto mesher = Triangulator(reader);
   mesher->SetTargetEdgeLengthData(DiscImage(box, centre, radius, small, large));
   auto log = Watch(mesher);
   mesher->Update();
@@ -248,11 +254,9 @@ TEST(TargetEdgeLengthFilterTest, a_points_only_field_refines_around_the_wells)
   const double a[2] = { box.x0 + 0.25 * w, y };
   const double b[2] = { box.x0 + 0.75 * w, y };
   auto reader = Reader("salt_dome.vtp");
-  vtkNew<vtkPhysicalCompressionTriangulator> plain;
-  plain->SetInputConnection(reader->GetOutputPort());
+  auto plain = Triangulator(reader);
   plain->Update();
-  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
-  mesher->SetInputConnection(reader->GetOutputPort());
+  auto mesher = Triangulator(reader);
   mesher->SetTargetEdgeLengthData(Wells({ { a[0], a[1], small }, { b[0], b[1], 2.0 * small } }));
   // No array named TargetEdgeLength: the only point array, "h", is used.
   auto log = Watch(mesher);
