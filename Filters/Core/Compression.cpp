@@ -793,6 +793,31 @@ private:
   std::vector<Location> locationsOf(int i) const;
   ChainPiece boundaryPiece(int t, int k) const;
   Location pieceMiddle(const ChainPiece& piece) const;
+  // The two faces across edge k of face t: t = (a, b, c) and u = Nbr[t][k] = (b, a, d), the
+  // edge being edge j of u (u >= 0).
+  struct Quad
+  {
+    int u, j, a, b, c, d;
+  };
+  Quad quadOf(int t, int k) const
+  {
+    Quad q;
+    q.u = this->Nbr[t][k];
+    q.a = this->Tri[t][k];
+    q.b = this->Tri[t][(k + 1) % 3];
+    q.c = this->Tri[t][(k + 2) % 3];
+    q.j = this->Tri[q.u][0] == q.b ? 0 : (this->Tri[q.u][1] == q.b ? 1 : 2);
+    q.d = this->Tri[q.u][(q.j + 2) % 3];
+    return q;
+  }
+  // The four faces made by splitting that edge at w: (a, w, c), (w, b, c), (b, w, d), (w, a, d).
+  std::array<std::array<Vec2, 3>, 4> splitFaces(const Quad& q, Vec2 w) const
+  {
+    const std::vector<Vec2>& x = this->Sys->positions();
+    return {
+      { { x[q.a], w, x[q.c] }, { w, x[q.b], x[q.c] }, { x[q.b], w, x[q.d] }, { w, x[q.a], x[q.d] } }
+    };
+  }
   bool canSplit(int t, int k, Vec2 w) const;
   bool splitBoundaryEdge(int t, int k, const Location& at, bool pin);
   void splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region);
@@ -1810,10 +1835,8 @@ bool Compressor::flipValid(int t, int k) const
 // Flips edge k of t (shared with u = Nbr[t][k]): (a, b, c) + (b, a, d) -> (c, a, d) + (d, b, c).
 void Compressor::flip(int t, int k)
 {
-  const int u = this->Nbr[t][k];
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-  const int d = this->Tri[u][(j + 2) % 3];
+  const Quad q = this->quadOf(t, k);
+  const int u = q.u, j = q.j, a = q.a, b = q.b, c = q.c, d = q.d;
   const int nBC = this->Nbr[t][(k + 1) % 3], nCA = this->Nbr[t][(k + 2) % 3];
   const int nAD = this->Nbr[u][(j + 1) % 3], nDB = this->Nbr[u][(j + 2) % 3];
   const int eAB = this->TriEdge[t][k], eBC = this->TriEdge[t][(k + 1) % 3];
@@ -1861,10 +1884,8 @@ bool Compressor::tryFlip(int t, int k, bool degenerate)
     return false;
   }
   const std::vector<Vec2>& x = this->Sys->positions();
-  const int u = this->Nbr[t][k];
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-  const int d = this->Tri[u][(j + 2) % 3];
+  const Quad q = this->quadOf(t, k);
+  const int u = q.u, a = q.a, b = q.b, c = q.c, d = q.d;
   const double before = std::min(minAngleSine(x[a], x[b], x[c]), minAngleSine(x[b], x[a], x[d]));
   const double after = std::min(minAngleSine(x[c], x[a], x[d]), minAngleSine(x[d], x[b], x[c]));
   if (!(after > before * (1.0 + 1e-9) + 1e-12))
@@ -2707,15 +2728,7 @@ bool Compressor::canSplit(int t, int k, Vec2 w) const
 {
   static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
   static const double kMaxCos = std::cos(140.0 * 3.14159265358979323846 / 180.0);
-  const std::vector<Vec2>& x = this->Sys->positions();
-  const int u = this->Nbr[t][k];
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-  const int d = this->Tri[u][(j + 2) % 3];
-  const std::array<std::array<Vec2, 3>, 4> faces{
-    { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
-  };
-  for (const std::array<Vec2, 3>& f : faces)
+  for (const std::array<Vec2, 3>& f : this->splitFaces(this->quadOf(t, k), w))
   {
     if (!(orient2d(f[0], f[1], f[2]) > 0.0) || minAngleSine(f[0], f[1], f[2]) < floorSine ||
       dot(f[1] - f[0], f[2] - f[0]) < kMaxCos * norm(f[1] - f[0]) * norm(f[2] - f[0]) ||
@@ -2754,10 +2767,8 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
 void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region)
 {
   std::vector<Vec2>& x = this->Sys->positions();
-  const int u = this->Nbr[t][k];
-  const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-  const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-  const int d = this->Tri[u][(j + 2) % 3];
+  const Quad q = this->quadOf(t, k);
+  const int u = q.u, j = q.j, a = q.a, b = q.b, c = q.c, d = q.d;
   // The new vertex.
   const int i = static_cast<int>(this->Global.size());
   const int g = static_cast<int>(this->Result.points.size());
@@ -2911,13 +2922,8 @@ bool Compressor::pullIntoBulge(int t, int k, const Location& far)
   const std::vector<Vec2>& x = this->Sys->positions();
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
   const Vec2 w = this->Rails.position(far);
-  int v = this->Tri[t][(k + 2) % 3];
-  if (!(orient2d(x[a], x[b], w) > 0.0))
-  {
-    const int u = this->Nbr[t][k];
-    const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-    v = this->Tri[u][(j + 2) % 3];
-  }
+  const Quad q = this->quadOf(t, k);
+  const int v = orient2d(x[a], x[b], w) > 0.0 ? q.c : q.d;
   if (!this->active(v) || this->St[v] != Free)
   {
     return false;
@@ -3010,9 +3016,8 @@ std::size_t Compressor::refineAngles()
     {
       continue;
     }
-    const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
-    const int j = this->Tri[u][0] == b ? 0 : (this->Tri[u][1] == b ? 1 : 2);
-    const int d = this->Tri[u][(j + 2) % 3];
+    const Quad q = this->quadOf(t, k);
+    const int a = q.a, b = q.b, c = q.c, d = q.d;
     // Candidates: inside one region, points on the edge (its middle, the feet of c and d) and
     // toward the two faces' centroid; on a region boundary (two curve vertices), the points
     // of the curve piece closest to those.
@@ -3068,11 +3073,8 @@ std::size_t Compressor::refineAngles()
         }
         w = this->Rails.position(l);
       }
-      const std::array<std::array<Vec2, 3>, 4> faces{
-        { { x[a], w, x[c] }, { w, x[b], x[c] }, { x[b], w, x[d] }, { w, x[a], x[d] } }
-      };
       double m = 1.0, cm = 1.0;
-      for (const std::array<Vec2, 3>& g : faces)
+      for (const std::array<Vec2, 3>& g : this->splitFaces(q, w))
       {
         m = orient2d(g[0], g[1], g[2]) > 0.0 ? std::min(m, minAngleSine(g[0], g[1], g[2])) : -1.0;
         cm = std::min(cm, largestAngleCosine(g[0], g[1], g[2]));
