@@ -41,6 +41,7 @@ vtkPhysicalCompressionTriangulator::vtkPhysicalCompressionTriangulator()
   this->FlipDegenerate = defaults.flipDegenerate;
   this->Optimization = defaults.optimize;
   this->BoundaryTolerance = defaults.boundaryTolerance;
+  this->MinimumAngle = strata::RefinementParams().minimumAngle;
 }
 
 vtkPhysicalCompressionTriangulator::~vtkPhysicalCompressionTriangulator() = default;
@@ -150,6 +151,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   c.flipDegenerate = this->FlipDegenerate != 0;
   c.optimize = this->Optimization != 0;
   c.boundaryTolerance = this->BoundaryTolerance;
+  params.refinement.minimumAngle = this->MinimumAngle;
 
   strata::MesherResult result;
   try
@@ -210,6 +212,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
   vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));
+  vtkStrataMeshOutput::AddField(fd, "RefinementVertices", static_cast<int>(s.refinementVertices));
   vtkStrataMeshOutput::AddField(
     fd, "TrianglesAtSharpCorners", static_cast<int>(s.trianglesAtSharpCorners));
   auto unresolved = vtkSmartPointer<vtkIntArray>::New();
@@ -243,6 +246,7 @@ bool vtkPhysicalCompressionTriangulator::CheckProperties()
   valid &= Range::Check(this, "PushVelocity", this->PushVelocity, 0.0, 10.0, Range::OPEN);
   valid &= Range::Check(this, "FeatureAngle", this->FeatureAngle, 0.0, 180.0);
   valid &= Range::Check(this, "BoundaryTolerance", this->BoundaryTolerance, 0.0, 10.0);
+  valid &= Range::Check(this, "MinimumAngle", this->MinimumAngle, 0.0, 34.0);
   return valid;
 }
 
@@ -260,4 +264,5 @@ void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "FlipDegenerate: " << this->FlipDegenerate << "\n";
   os << indent << "Optimization: " << this->Optimization << "\n";
   os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
+  os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
 }

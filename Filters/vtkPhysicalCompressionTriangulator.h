@@ -191,6 +191,24 @@ public:
   vtkGetMacro(BoundaryTolerance, double);
   ///@}
 
+  ///@{
+  /**
+   * Beyond the paper, the last step of the Optimization: constrained Delaunay refinement
+   * (Ruppert's algorithm with Ungor's off-centres) of every triangle whose smallest angle is
+   * below this. The mesh is first flipped to constrained Delaunay (region boundaries are never
+   * flipped); then the off-centre of each bad triangle is inserted, or, when it would encroach
+   * a region boundary edge, that edge is split at its curve point (new boundary vertices lie on
+   * the input curves). Insertions never go below the grid's finest edge (MinimumEdgeLength
+   * when set) and never leave the region; the corners of a region sharper than this stay. Of
+   * a bold and a cautious run (the latter never lowers any local smallest angle) the one with
+   * the larger smallest angle is kept, so the result is never worse than without it. The field
+   * data RefinementVertices counts the vertices inserted. Degrees, range [0, 34]; default 30;
+   * 0 turns the refinement off.
+   */
+  vtkSetMacro(MinimumAngle, double);
+  vtkGetMacro(MinimumAngle, double);
+  ///@}
+
 protected:
   vtkPhysicalCompressionTriangulator();
   ~vtkPhysicalCompressionTriangulator() override;
@@ -211,6 +229,7 @@ protected:
   vtkTypeBool FlipDegenerate;
   vtkTypeBool Optimization;
   double BoundaryTolerance;
+  double MinimumAngle; // default from strata::RefinementParams
 
 private:
   vtkPhysicalCompressionTriangulator(const vtkPhysicalCompressionTriangulator&) = delete;

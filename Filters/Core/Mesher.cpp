@@ -13,6 +13,7 @@
 // Nothing is kept between calls.
 #include "Mesher.h"
 
+#include "DelaunayRefinement.h"
 #include "DistanceField.h"
 #include "Errors.h"
 #include "Quality.h"
@@ -241,6 +242,7 @@ MesherResult triangulate(const RawPolylines& input,
   };
   // Validate every parameter before any work (the grid's once the model is known).
   validate(params.compression);
+  validate(params.refinement);
   if (!(params.classification.boundaryTolerance >= 0.0) ||
     !std::isfinite(params.classification.boundaryTolerance))
   {
@@ -272,13 +274,67 @@ MesherResult triangulate(const RawPolylines& input,
     classify(mesh, model, field, params.classification, progress.sub(0.15, 0.25));
   stage("classification");
 
-  const CompressionResult compressed =
-    compress(mesh, classification, model, field, params.compression, progress.sub(0.25, 0.95));
+  CompressionResult compressed =
+    compress(mesh, classification, model, field, params.compression, progress.sub(0.25, 0.9));
   for (const auto& s : compressed.secondsPerStage)
   {
     result.summary.secondsPerStage.push_back(s);
   }
   t0 = Clock::now();
+  const BoundaryRails rails(model, 0.0);
+  StripTreeScratch scratch;
+
+  // Delaunay refinement toward the minimum angle (part of the optimization): boundary edges
+  // are split at the point of their curve nearest their middle, on the chain that separates
+  // the same two regions.
+  if (params.compression.optimize && params.refinement.minimumAngle > 0.0)
+  {
+    RefinementParams rp = params.refinement;
+    if (!(rp.minimumEdgeLength > 0.0))
+    {
+      // The grid's finest leg: the refinement goes no finer than the grid could.
+      rp.minimumEdgeLength = grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
+    }
+    const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
+    {
+      double d = 0.0;
+      const BoundaryRails::Location l = rails.closest(0.5 * (a + b), scratch, &d);
+      if (l.chain < 0)
+      {
+        return false;
+      }
+      const BoundaryRails::Chain& c = rails.chain(l.chain);
+      const bool ends = !c.closed &&
+        ((l.segment == 0 && l.t == 0.0) ||
+          (l.segment + 1 == static_cast<int>(c.numberOfSegments()) && l.t == 1.0));
+      if (ends || d > 0.5 * norm(b - a) ||
+        !((c.left == left && c.right == right) || (c.left == right && c.right == left)))
+      {
+        return false; // a junction (it has its vertex), or not this edge's curve
+      }
+      at = rails.position(l);
+      return true;
+    };
+    RegionMesh rm{ std::move(compressed.points),
+      std::move(compressed.triangles),
+      std::move(compressed.triangleRegion),
+      std::move(compressed.triangleLevel) };
+    const RefinementResult rr = refineDelaunay(rm, splitter, rp, progress.sub(0.9, 0.95));
+    compressed.points = std::move(rm.points);
+    compressed.triangles = std::move(rm.triangles);
+    compressed.triangleRegion = std::move(rm.region);
+    compressed.triangleLevel = std::move(rm.level);
+    result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices;
+    if (rr.budgetReached)
+    {
+      result.warnings.push_back("the Delaunay refinement stopped at its budget of inserted "
+                                "vertices; some triangles stay below MinimumAngle");
+    }
+    const Clock::time_point now = Clock::now();
+    result.summary.secondsPerStage.push_back(
+      { "refinement", std::chrono::duration<double>(now - t0).count() });
+    t0 = now;
+  }
   result.summary.iterations = compressed.iterations;
   result.summary.boundarySplits = compressed.boundarySplits;
   result.warnings.insert(
@@ -396,8 +452,6 @@ MesherResult triangulate(const RawPolylines& input,
 
   // Deviation of the approximated boundary from the input curves, both ways.
   {
-    const BoundaryRails rails(model, 0.0);
-    StripTreeScratch scratch;
     double maxVertex = 0.0, maxMeshToModel = 0.0;
     std::vector<Vec2> a, b;
     for (const MesherResult::BoundaryCurve& c : result.boundary)

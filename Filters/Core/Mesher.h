@@ -5,6 +5,7 @@
 
 #include "Classification.h"
 #include "Compression.h"
+#include "DelaunayRefinement.h"
 #include "Geometry.h"
 #include "Grid48.h"
 #include "Model.h"
@@ -26,6 +27,10 @@ struct MesherParams
   Grid48Params grid;
   ClassificationParams classification;
   CompressionParams compression;
+  /// Delaunay refinement toward refinement.minimumAngle, run after the compression when
+  /// compression.optimize is on. refinement.minimumEdgeLength 0 (default) means the grid's
+  /// finest leg: the hypotenuse at Grid48Params::junctionMaxLevel over sqrt(2).
+  RefinementParams refinement;
 };
 
 /// The triangulation of a model, everything in local coordinates (add `origin`).
@@ -84,6 +89,8 @@ struct MesherResult
     int iterations = 0; ///< simulation steps
     /// Edges of the approximated boundary split onto their curve by the boundary refinement.
     std::size_t boundarySplits = 0;
+    /// Vertices inserted by the Delaunay refinement (inside regions and on boundary edges).
+    std::size_t refinementVertices = 0;
     /// Triangles with a smallest angle below 25 degrees at a model corner sharper than 25
     /// degrees (a region's angle there): the input forces them, they are kept, not mended.
     std::size_t trianglesAtSharpCorners = 0;

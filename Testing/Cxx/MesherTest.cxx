@@ -184,6 +184,7 @@ TEST(MesherTest, ResultIsCompleteAndConsistent)
     "simulation",
     "face classification",
     "optimization",
+    "refinement",
     "output" };
   EXPECT_EQ(names, expected);
   EXPECT_LE(sum, r.summary.totalSeconds + 1e-6);

@@ -8,7 +8,7 @@
 //   --max-level N --local-max-level N --tolerance X
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
-//   --no-optimize --passes N --rings N --boundary-tolerance X
+//   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
 //   --boundary OUT.vtp (approximated boundary polylines)
 #include "Mesher.h"
 #include "VtpAscii.h"
@@ -209,6 +209,8 @@ int main(int argc, char** argv)
       p.compression.optimizationPasses = std::atoi(next());
     else if (a == "--boundary-tolerance")
       p.compression.boundaryTolerance = std::atof(next());
+    else if (a == "--minimum-angle")
+      p.refinement.minimumAngle = std::atof(next());
     else if (a == "--rings")
       p.compression.activeRings = std::atoi(next());
     else if (a == "--boundary")
@@ -230,7 +232,8 @@ int main(int argc, char** argv)
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
-                " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n",
+                " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
+                " \"refinement_vertices\": %zu,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -243,7 +246,8 @@ int main(int argc, char** argv)
       s.iterations,
       s.totalSeconds,
       s.boundarySplits,
-      s.trianglesAtSharpCorners);
+      s.trianglesAtSharpCorners,
+      s.refinementVertices);
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {

@@ -1,0 +1,899 @@
+// StrataMesh core: constrained Delaunay refinement of the compressed mesh.
+//
+// The algorithm
+// -------------
+// The compression leaves a region-tagged mesh whose region boundaries follow the curves and
+// whose triangles are mostly good; what is left below the angle bound are strips between
+// curves closer than the triangles, caps on wiggly curves and fans around boundary vertices.
+// Delaunay refinement (Ruppert 1995; Shewchuk's Triangle; off-centres after Ungor 2004)
+// mends those while keeping every region boundary edge:
+// 1. Constrained edges. An edge is constrained when its two triangles have different regions,
+//    it has one triangle, or a triangle beside it has no positive area. Only the other edges
+//    are ever flipped, so every triangle keeps its region.
+// 2. Constrained Delaunay. Lawson's flips: an unconstrained edge whose opposite vertex lies
+//    inside the other triangle's circumcircle is flipped, until none is left. This maximises
+//    the smallest angle over all triangulations with the same vertices and constrained edges,
+//    so it never lowers the minimum angle of the compressed mesh.
+// 3. Refinement. A queue holds the region triangles whose smallest angle is below
+//    minimumAngle. For each (still bad) triangle with shortest edge pq:
+//    - if its smallest angle lies between two constrained edges (a corner of the region), or
+//      pq is shorter than minimumEdgeLength, it is left (counted at the end);
+//    - the point to insert is its circumcentre, or, when that lies farther from pq, the
+//      off-centre: the point on pq's bisector whose triangle with pq has an apex angle
+//      slightly above minimumAngle (fewer, better graded vertices than circumcentres);
+//    - the point is located by a walk from the triangle; if the walk meets a constrained edge,
+//      the point lies beyond it and that edge is split; otherwise the triangles whose
+//      circumcircle contains the point (grown from the one holding it, across unconstrained
+//      edges) are its Bowyer-Watson cavity, and if a constrained edge of the cavity has the
+//      point inside its diametral circle (the point encroaches it), that edge is split
+//      instead;
+//    - otherwise the point is inserted (its triangle split in three, or its edge in four when
+//      it lies on one) and the edges opposite it are flipped back to Delaunay (Lawson).
+//    A constrained edge ab is split at the point the BoundarySplitter gives (the curve point
+//    nearest its middle: new boundary vertices lie on the model's curves), unless it is
+//    shorter than twice minimumEdgeLength, the splitter refuses, or a piece would not be
+//    counter-clockwise; the bad triangle is queued again. Every triangle a change creates is
+//    queued when bad. The number of insertions is capped by insertionBudget.
+// No step moves an existing vertex, inverts a triangle or changes a triangle's region; the
+// regions' areas change only where a boundary edge is split onto its curve.
+#include "DelaunayRefinement.h"
+
+#include "Errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+
+namespace strata
+{
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxWalk = 1 << 16;       // steps of a point location walk
+constexpr std::size_t kMaxCavity = 256; // triangles of a cavity looked at for encroachment
+constexpr double kBoldFloor = 0.25;     // the bold run's floor, relative to minimumAngle
+
+// > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
+// beyond a relative rounding margin.
+bool inCircle(Vec2 a, Vec2 b, Vec2 c, Vec2 d)
+{
+  const double adx = a.x - d.x, ady = a.y - d.y;
+  const double bdx = b.x - d.x, bdy = b.y - d.y;
+  const double cdx = c.x - d.x, cdy = c.y - d.y;
+  const double al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
+  const double ab = adx * bdy - bdx * ady, bc = bdx * cdy - cdx * bdy, ca = cdx * ady - adx * cdy;
+  const double det = al * bc + bl * ca + cl * ab;
+  const double mag = al * std::fabs(bc) + bl * std::fabs(ca) + cl * std::fabs(ab);
+  return det > 1e-10 * mag;
+}
+
+Vec2 circumcenter(Vec2 a, Vec2 b, Vec2 c)
+{
+  const Vec2 ba = b - a, ca = c - a;
+  const double d = 2.0 * cross(ba, ca);
+  const double lb = norm2(ba), lc = norm2(ca);
+  return a + Vec2{ (ca.y * lb - ba.y * lc) / d, (ba.x * lc - ca.x * lb) / d };
+}
+
+class Refiner
+{
+public:
+  Refiner(RegionMesh& mesh,
+    const BoundarySplitter& splitter,
+    const RefinementParams& params,
+    double floorFraction,
+    const ProgressReporter& progress)
+    : M(mesh)
+    , Split(splitter)
+    , P(params)
+    , Progress(progress)
+  {
+    const double theta = params.minimumAngle * kPi / 180.0;
+    this->CosBad = std::cos(theta);
+    this->CosFloor = std::cos(floorFraction * theta);
+    // Off-centre apex angle: 10% above the bound, so the new triangle is not bad itself.
+    this->OffDistance = 0.5 / std::tan(0.5 * std::min(1.1 * theta, kPi / 3.0));
+    this->Budget = static_cast<std::size_t>(
+                     params.insertionBudget * static_cast<double>(mesh.triangles.size())) +
+      1000;
+  }
+
+  RefinementResult run();
+  /// The smallest angle (degrees) of the region triangles.
+  double minimumAngle() const;
+
+private:
+  int apex(int t, int k) const { return this->M.triangles[t][(k + 2) % 3]; }
+  Vec2 X(int v) const { return this->M.points[v]; }
+  bool positive(int t) const
+  {
+    const auto& tri = this->M.triangles[t];
+    return orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2])) > 0.0;
+  }
+  bool constrained(int t, int k) const
+  {
+    const int u = this->Nbr[t][k];
+    return u < 0 || this->M.region[u] != this->M.region[t] || !this->Live[t] || !this->Live[u];
+  }
+  void buildNeighbours();
+  // Transactions: every slot an insertion changes is saved first, so that an insertion that
+  // would lower the local smallest angle can be undone.
+  void begin()
+  {
+    this->Journal.clear();
+    ++this->Tx;
+    this->Recording = true;
+    this->Tri0 = this->M.triangles.size();
+    this->Points0 = this->M.points.size();
+    this->Flips0 = this->R.delaunayFlips;
+  }
+  void save(int t)
+  {
+    if (this->Recording && static_cast<std::size_t>(t) < this->Tri0 && this->Saved[t] != this->Tx)
+    {
+      this->Saved[t] = this->Tx;
+      this->Journal.push_back({ t, this->M.triangles[t], this->Nbr[t], this->M.level[t] });
+    }
+  }
+  bool commit();
+  void replaceNeighbour(int n, int from, int to)
+  {
+    if (n >= 0)
+    {
+      this->save(n);
+      for (int& x : this->Nbr[n])
+      {
+        x = x == from ? to : x;
+      }
+    }
+  }
+  int addTriangle(std::array<int, 3> tri, int region, int level)
+  {
+    this->Saved.push_back(0);
+    this->M.triangles.push_back(tri);
+    this->M.region.push_back(region);
+    this->M.level.push_back(level);
+    this->Nbr.push_back({ -1, -1, -1 });
+    this->Live.push_back(1);
+    return static_cast<int>(this->M.triangles.size()) - 1;
+  }
+  bool needsFlip(int t, int k) const;
+  bool flip(int t, int k);
+  void legalize(int p, std::vector<int>& around);
+  bool bad(int t) const;
+  double smallestAngleCosine(const std::array<int, 3>& tri) const;
+  int smallestCorner(int t) const;
+  bool splitEdge(int t, int k, Vec2 w, std::vector<int>& created);
+  void insertIn(int t, Vec2 w, std::vector<int>& created);
+  bool splitBoundary(int t, int k);
+  int locate(int start, Vec2 p, int& crossT, int& crossK) const;
+  bool encroached(int start, Vec2 p, int& segT, int& segK);
+  void queueBad(const std::vector<int>& tris);
+  void poll()
+  {
+    if ((++this->Ticks & 1023) == 0)
+    {
+      this->Progress.report(
+        std::min(0.99, static_cast<double>(this->Inserted) / static_cast<double>(this->Budget)),
+        "refining toward the minimum angle");
+    }
+  }
+
+  RegionMesh& M;
+  const BoundarySplitter& Split;
+  const RefinementParams& P;
+  const ProgressReporter Progress; // a copy: callers pass sub-ranges by value
+  double CosBad = 1.0;
+  double OffDistance = 0.0;
+  std::size_t Budget = 0;
+  std::size_t Inserted = 0;
+  std::size_t Ticks = 0;
+  std::vector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
+  std::vector<std::uint8_t> Live;      // positive area at the start (others are frozen)
+  std::deque<int> Queue;
+  std::vector<int> Cavity, Mark;
+  int Stamp = 0;
+  struct Entry
+  {
+    int t;
+    std::array<int, 3> tri, nbr;
+    int level;
+  };
+  std::vector<Entry> Journal;
+  std::vector<int> Saved; // transaction that saved each slot
+  int Tx = 0;
+  bool Recording = false;
+  std::size_t Tri0 = 0, Points0 = 0, Flips0 = 0;
+  double CosFloor = 1.0; // an insertion may not leave an angle below min(this, the old smallest)
+  std::vector<int> Changed;
+  RefinementResult R;
+};
+
+void Refiner::buildNeighbours()
+{
+  const std::size_t np = this->M.points.size(), nt = this->M.triangles.size();
+  std::vector<int> start(np + 1, 0), items(3 * nt);
+  for (const auto& tri : this->M.triangles)
+  {
+    for (int v : tri)
+    {
+      ++start[v + 1];
+    }
+  }
+  for (std::size_t i = 0; i < np; ++i)
+  {
+    start[i + 1] += start[i];
+  }
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      for (int v : this->M.triangles[t])
+      {
+        items[fill[v]++] = static_cast<int>(t);
+      }
+    }
+  }
+  this->Nbr.assign(nt, { -1, -1, -1 });
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      int found = 0;
+      for (int s = start[b]; s < start[b + 1]; ++s)
+      {
+        const int u = items[s];
+        const auto& tu = this->M.triangles[u];
+        for (int j = 0; j < 3; ++j)
+        {
+          if (tu[j] == b && tu[(j + 1) % 3] == a)
+          {
+            this->Nbr[t][k] = u;
+            ++found;
+          }
+        }
+      }
+      int same = 0; // triangles with the edge in the same direction (t itself included)
+      for (int s = start[a]; s < start[a + 1]; ++s)
+      {
+        const auto& tu = this->M.triangles[items[s]];
+        for (int j = 0; j < 3; ++j)
+        {
+          same += tu[j] == a && tu[(j + 1) % 3] == b;
+        }
+      }
+      if (found > 1 || same > 1)
+      {
+        throw ParameterError("refineDelaunay: the edge from point " + std::to_string(a) +
+          " to point " + std::to_string(b) +
+          " belongs to more than two triangles or twice to "
+          "one side (triangle " +
+          std::to_string(t) +
+          "): not a manifold, consistently "
+          "oriented mesh");
+      }
+    }
+  }
+}
+
+bool Refiner::needsFlip(int t, int k) const
+{
+  if (this->constrained(t, k))
+  {
+    return false;
+  }
+  const int u = this->Nbr[t][k];
+  const auto& tt = this->M.triangles[t];
+  const auto& tu = this->M.triangles[u];
+  int d = -1;
+  for (int j = 0; j < 3; ++j)
+  {
+    if (tu[j] == tt[(k + 1) % 3])
+    {
+      d = tu[(j + 2) % 3];
+    }
+  }
+  return d >= 0 && inCircle(this->X(tt[0]), this->X(tt[1]), this->X(tt[2]), this->X(d));
+}
+
+// Flips edge k of t, (a, b) with c opposite in t and d in the neighbour u, into (c, d): t
+// becomes (c, a, d), u becomes (d, b, c). Refused when a new triangle would not be positive.
+bool Refiner::flip(int t, int k)
+{
+  const int u = this->Nbr[t][k];
+  auto& tt = this->M.triangles[t];
+  auto& tu = this->M.triangles[u];
+  const int a = tt[k], b = tt[(k + 1) % 3], c = tt[(k + 2) % 3];
+  int j = 0;
+  while (tu[j] != b)
+  {
+    ++j;
+  }
+  const int d = tu[(j + 2) % 3];
+  if (!(orient2d(this->X(c), this->X(a), this->X(d)) > 0.0) ||
+    !(orient2d(this->X(d), this->X(b), this->X(c)) > 0.0))
+  {
+    return false;
+  }
+  this->save(t);
+  this->save(u);
+  const int nca = this->Nbr[t][(k + 2) % 3], nbc = this->Nbr[t][(k + 1) % 3];
+  const int nad = this->Nbr[u][(j + 1) % 3], ndb = this->Nbr[u][(j + 2) % 3];
+  tt = { c, a, d };
+  tu = { d, b, c };
+  this->Nbr[t] = { nca, nad, u };
+  this->Nbr[u] = { ndb, nbc, t };
+  this->replaceNeighbour(nad, u, t);
+  this->replaceNeighbour(nbc, t, u);
+  this->M.level[t] = this->M.level[u] = std::max(this->M.level[t], this->M.level[u]);
+  ++this->R.delaunayFlips;
+  return true;
+}
+
+// Lawson: the edges opposite the new vertex p in the triangles `around` are flipped while not
+// Delaunay; each flip gives two triangles around p whose opposite edges are checked in turn.
+// On return `around` lists the triangles around p.
+void Refiner::legalize(int p, std::vector<int>& around)
+{
+  std::vector<int> stack = around;
+  while (!stack.empty())
+  {
+    const int t = stack.back();
+    stack.pop_back();
+    const auto& tri = this->M.triangles[t];
+    int k = 0;
+    while (k < 3 && tri[k] != p)
+    {
+      ++k;
+    }
+    if (k == 3)
+    {
+      continue;
+    }
+    const int e = (k + 1) % 3; // the edge opposite p
+    const int u = this->Nbr[t][e];
+    if (this->needsFlip(t, e) && this->flip(t, e))
+    {
+      stack.push_back(t);
+      stack.push_back(u);
+      around.push_back(u);
+    }
+  }
+  std::sort(around.begin(), around.end());
+  around.erase(std::unique(around.begin(), around.end()), around.end());
+}
+
+bool Refiner::bad(int t) const
+{
+  if (this->M.region[t] < 0 || !this->Live[t])
+  {
+    return false;
+  }
+  const auto& tri = this->M.triangles[t];
+  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+  const double la = norm2(c - b), lb = norm2(a - c), lc = norm2(b - a);
+  // The smallest angle is opposite the shortest edge.
+  double s = la, p = lb, q = lc;
+  if (lb < s)
+  {
+    s = lb;
+    p = la;
+    q = lc;
+  }
+  if (lc < s)
+  {
+    s = lc;
+    p = la;
+    q = lb;
+  }
+  const double cosine = (p + q - s) / (2.0 * std::sqrt(p * q));
+  return cosine > this->CosBad;
+}
+
+// Corner (0..2) of the smallest angle: opposite the shortest edge.
+int Refiner::smallestCorner(int t) const
+{
+  const auto& tri = this->M.triangles[t];
+  int corner = 0;
+  double shortest = HUGE_VAL;
+  for (int k = 0; k < 3; ++k)
+  {
+    const double l = norm2(this->X(tri[(k + 2) % 3]) - this->X(tri[(k + 1) % 3]));
+    if (l < shortest)
+    {
+      shortest = l;
+      corner = k;
+    }
+  }
+  return corner;
+}
+
+// Splits edge k of t (a, b; c opposite) and the neighbour's (b, a; d opposite) at w: t = (a, w,
+// c), new (w, b, c); u = (b, w, d), new (w, a, d). Refused when a piece would not be positive.
+bool Refiner::splitEdge(int t, int k, Vec2 w, std::vector<int>& created)
+{
+  const int u = this->Nbr[t][k];
+  const int a = this->M.triangles[t][k], b = this->M.triangles[t][(k + 1) % 3],
+            c = this->M.triangles[t][(k + 2) % 3];
+  int j = 0, d = -1;
+  if (u >= 0)
+  {
+    while (this->M.triangles[u][j] != b)
+    {
+      ++j;
+    }
+    d = this->M.triangles[u][(j + 2) % 3];
+  }
+  const double scale = norm2(this->X(b) - this->X(a));
+  const auto ok = [&](Vec2 p, Vec2 q, Vec2 r) { return orient2d(p, q, r) > 1e-9 * scale; };
+  if (!ok(this->X(a), w, this->X(c)) || !ok(w, this->X(b), this->X(c)) ||
+    (u >= 0 && (!ok(this->X(b), w, this->X(d)) || !ok(w, this->X(a), this->X(d)))))
+  {
+    return false;
+  }
+  this->save(t);
+  if (u >= 0)
+  {
+    this->save(u);
+  }
+  const int wi = static_cast<int>(this->M.points.size());
+  this->M.points.push_back(w);
+  const int nbc = this->Nbr[t][(k + 1) % 3], nca = this->Nbr[t][(k + 2) % 3];
+  const int t2 = this->addTriangle({ wi, b, c }, this->M.region[t], this->M.level[t]);
+  this->M.triangles[t] = { a, wi, c };
+  int u2 = -1;
+  if (u >= 0)
+  {
+    const int nad = this->Nbr[u][(j + 1) % 3], ndb = this->Nbr[u][(j + 2) % 3];
+    u2 = this->addTriangle({ wi, a, d }, this->M.region[u], this->M.level[u]);
+    this->M.triangles[u] = { b, wi, d };
+    this->Nbr[u] = { t2, u2, ndb };
+    this->Nbr[u2] = { t, nad, u };
+    this->replaceNeighbour(nad, u, u2);
+  }
+  this->Nbr[t] = { u2, t2, nca };
+  this->Nbr[t2] = { u, nbc, t };
+  this->replaceNeighbour(nbc, t, t2);
+  created = { t, t2 };
+  if (u >= 0)
+  {
+    created.push_back(u);
+    created.push_back(u2);
+  }
+  this->legalize(wi, created);
+  return true;
+}
+
+// Splits t = (a, b, c) at the interior point w into (a, b, w), (b, c, w), (c, a, w).
+void Refiner::insertIn(int t, Vec2 w, std::vector<int>& created)
+{
+  this->save(t);
+  const auto tri = this->M.triangles[t];
+  const int wi = static_cast<int>(this->M.points.size());
+  this->M.points.push_back(w);
+  const int nab = this->Nbr[t][0], nbc = this->Nbr[t][1], nca = this->Nbr[t][2];
+  const int t2 = this->addTriangle({ tri[1], tri[2], wi }, this->M.region[t], this->M.level[t]);
+  const int t3 = this->addTriangle({ tri[2], tri[0], wi }, this->M.region[t], this->M.level[t]);
+  this->M.triangles[t] = { tri[0], tri[1], wi };
+  this->Nbr[t] = { nab, t2, t3 };
+  this->Nbr[t2] = { nbc, t3, t };
+  this->Nbr[t3] = { nca, t, t2 };
+  this->replaceNeighbour(nbc, t, t2);
+  this->replaceNeighbour(nca, t, t3);
+  created = { t, t2, t3 };
+  this->legalize(wi, created);
+}
+
+double Refiner::smallestAngleCosine(const std::array<int, 3>& tri) const
+{
+  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+  const double la = norm2(c - b), lb = norm2(a - c), lc = norm2(b - a);
+  const double s = std::min({ la, lb, lc });
+  const double p = s == la ? lb : la, q = s == lc ? lb : lc;
+  return (p + q - s) / (2.0 * std::sqrt(p * q));
+}
+
+// Ends the transaction: keeps it when the smallest angle of the triangles it made is not below
+// min(CosFloor's angle, the smallest angle of the triangles it replaced), else undoes it.
+// Changed lists the triangles made (when kept).
+bool Refiner::commit()
+{
+  this->Recording = false;
+  double before = -1.0, after = -1.0; // cosines of the smallest angles (larger = worse)
+  for (const Entry& e : this->Journal)
+  {
+    if (this->M.region[e.t] >= 0)
+    {
+      before = std::max(before, this->smallestAngleCosine(e.tri));
+    }
+  }
+  this->Changed.clear();
+  for (const Entry& e : this->Journal)
+  {
+    this->Changed.push_back(e.t);
+  }
+  for (std::size_t t = this->Tri0; t < this->M.triangles.size(); ++t)
+  {
+    this->Changed.push_back(static_cast<int>(t));
+  }
+  for (int t : this->Changed)
+  {
+    if (this->M.region[t] >= 0)
+    {
+      after = std::max(after, this->smallestAngleCosine(this->M.triangles[t]));
+    }
+  }
+  if (after <= std::max(std::min(before, 1.0), this->CosFloor) + 1e-12)
+  {
+    return true;
+  }
+  for (auto e = this->Journal.rbegin(); e != this->Journal.rend(); ++e)
+  {
+    this->M.triangles[e->t] = e->tri;
+    this->Nbr[e->t] = e->nbr;
+    this->M.level[e->t] = e->level;
+  }
+  this->M.triangles.resize(this->Tri0);
+  this->M.region.resize(this->Tri0);
+  this->M.level.resize(this->Tri0);
+  this->Nbr.resize(this->Tri0);
+  this->Live.resize(this->Tri0);
+  this->Saved.resize(this->Tri0);
+  this->M.points.resize(this->Points0);
+  this->R.delaunayFlips = this->Flips0;
+  this->Changed.clear();
+  return false;
+}
+
+// Splits the constrained edge k of t on its curve.
+bool Refiner::splitBoundary(int t, int k)
+{
+  const int u = this->Nbr[t][k];
+  if (u < 0 || !this->Live[t] || !this->Live[u])
+  {
+    return false; // the mesh's outer border, or beside a frozen triangle
+  }
+  const Vec2 a = this->X(this->M.triangles[t][k]), b = this->X(this->M.triangles[t][(k + 1) % 3]);
+  const double l = norm(b - a);
+  if (l < 2.0 * this->P.minimumEdgeLength)
+  {
+    return false;
+  }
+  Vec2 w;
+  if (!this->Split(a, b, this->M.region[t], this->M.region[u], w) ||
+    !(norm(w - a) > 1e-6 * l && norm(w - b) > 1e-6 * l))
+  {
+    return false;
+  }
+  std::vector<int> created;
+  this->begin();
+  if (!this->splitEdge(t, k, w, created) || !this->commit())
+  {
+    this->Recording = false;
+    return false;
+  }
+  ++this->R.boundaryVertices;
+  ++this->Inserted;
+  this->queueBad(this->Changed);
+  return true;
+}
+
+// Walks from `start` toward p. Returns the triangle holding p, or -1 with (crossT, crossK) the
+// constrained edge the walk would cross (-1 when the walk did not end).
+int Refiner::locate(int start, Vec2 p, int& crossT, int& crossK) const
+{
+  int t = start;
+  crossT = crossK = -1;
+  for (int step = 0; step < kMaxWalk; ++step)
+  {
+    const auto& tri = this->M.triangles[t];
+    int next = -1;
+    for (int i = 0; i < 3 && next < 0; ++i)
+    {
+      const int k = (i + step) % 3; // rotate the first edge tried: no cycling on ties
+      const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
+      if (orient2d(a, b, p) < -1e-12 * norm2(b - a))
+      {
+        next = k;
+      }
+    }
+    if (next < 0)
+    {
+      return t;
+    }
+    if (this->constrained(t, next))
+    {
+      crossT = t;
+      crossK = next;
+      return -1;
+    }
+    t = this->Nbr[t][next];
+  }
+  return -1;
+}
+
+// Whether p encroaches a constrained edge of its Bowyer-Watson cavity (grown from `start`, the
+// triangle holding p): then (segT, segK) is that edge.
+bool Refiner::encroached(int start, Vec2 p, int& segT, int& segK)
+{
+  if (this->Mark.size() < this->M.triangles.size())
+  {
+    this->Mark.resize(this->M.triangles.size(), 0);
+  }
+  ++this->Stamp;
+  this->Cavity.assign(1, start);
+  this->Mark[start] = this->Stamp;
+  for (std::size_t n = 0; n < this->Cavity.size() && n < kMaxCavity; ++n)
+  {
+    const int t = this->Cavity[n];
+    const auto& tri = this->M.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
+      if (this->constrained(t, k))
+      {
+        if (dot(a - p, b - p) < 0.0)
+        {
+          segT = t;
+          segK = k;
+          return true;
+        }
+        continue;
+      }
+      const int u = this->Nbr[t][k];
+      if (this->Mark[u] != this->Stamp)
+      {
+        const auto& tu = this->M.triangles[u];
+        if (inCircle(this->X(tu[0]), this->X(tu[1]), this->X(tu[2]), p))
+        {
+          this->Mark[u] = this->Stamp;
+          this->Cavity.push_back(u);
+        }
+      }
+    }
+  }
+  return false;
+}
+
+void Refiner::queueBad(const std::vector<int>& tris)
+{
+  for (int t : tris)
+  {
+    if (this->bad(t))
+    {
+      this->Queue.push_back(t);
+    }
+  }
+  if (this->Mark.size() < this->M.triangles.size())
+  {
+    this->Mark.resize(this->M.triangles.size(), 0);
+  }
+}
+
+RefinementResult Refiner::run()
+{
+  const std::size_t nt = this->M.triangles.size();
+  this->buildNeighbours();
+  this->Live.resize(nt);
+  this->Saved.assign(nt, 0);
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    this->Live[t] = this->positive(static_cast<int>(t));
+  }
+  // Constrained Delaunay (Lawson).
+  {
+    std::vector<std::array<int, 2>> stack;
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        if (static_cast<std::size_t>(this->Nbr[t][k]) > t)
+        {
+          stack.push_back({ static_cast<int>(t), k });
+        }
+      }
+    }
+    while (!stack.empty())
+    {
+      this->poll();
+      const auto [t, k] = stack.back();
+      stack.pop_back();
+      const int u = this->Nbr[t][k];
+      if (this->needsFlip(t, k) && this->flip(t, k))
+      {
+        // t = (c, a, d), u = (d, b, c): their outer edges are 0 and 1.
+        stack.push_back({ t, 0 });
+        stack.push_back({ t, 1 });
+        stack.push_back({ u, 0 });
+        stack.push_back({ u, 1 });
+      }
+    }
+  }
+  if (this->P.minimumAngle > 0.0)
+  {
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      if (this->bad(static_cast<int>(t)))
+      {
+        this->Queue.push_back(static_cast<int>(t));
+      }
+    }
+  }
+  this->Mark.assign(this->M.triangles.size(), 0);
+  std::vector<int> created;
+  while (!this->Queue.empty())
+  {
+    this->poll();
+    const int t = this->Queue.front();
+    this->Queue.pop_front();
+    if (!this->bad(t))
+    {
+      continue;
+    }
+    if (this->Inserted >= this->Budget)
+    {
+      this->R.budgetReached = true;
+      break;
+    }
+    const int corner = this->smallestCorner(t);
+    if (this->constrained(t, corner) && this->constrained(t, (corner + 2) % 3))
+    {
+      continue; // a corner of the region: no interior point widens it
+    }
+    const auto& tri = this->M.triangles[t];
+    const Vec2 p = this->X(tri[(corner + 1) % 3]), q = this->X(tri[(corner + 2) % 3]);
+    const double l = norm(q - p);
+    if (l < this->P.minimumEdgeLength)
+    {
+      continue;
+    }
+    const Vec2 cc = circumcenter(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+    const Vec2 m = 0.5 * (p + q);
+    const double dc = norm(cc - m), doff = this->OffDistance * l;
+    const Vec2 w = dc > doff ? m + (doff / dc) * (cc - m) : cc;
+    int ct = -1, ck = -1;
+    const int s = this->locate(t, w, ct, ck);
+    if (s < 0)
+    {
+      if (ct >= 0 && this->splitBoundary(ct, ck))
+      {
+        this->Queue.push_back(t);
+      }
+      continue;
+    }
+    if (this->encroached(s, w, ct, ck))
+    {
+      if (this->splitBoundary(ct, ck))
+      {
+        this->Queue.push_back(t);
+      }
+      continue;
+    }
+    // On an edge of s (up to rounding): split that edge, else split s.
+    const auto& ts = this->M.triangles[s];
+    int onEdge = -1;
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec2 a = this->X(ts[k]), b = this->X(ts[(k + 1) % 3]);
+      if (std::fabs(orient2d(a, b, w)) <= 1e-9 * norm2(b - a))
+      {
+        onEdge = k;
+      }
+    }
+    this->begin();
+    if (onEdge >= 0)
+    {
+      if (this->constrained(s, onEdge) || !this->splitEdge(s, onEdge, w, created))
+      {
+        this->Recording = false;
+        continue;
+      }
+    }
+    else
+    {
+      this->insertIn(s, w, created);
+    }
+    if (!this->commit())
+    {
+      continue; // it would have lowered the smallest angle there: t is left as it is
+    }
+    ++this->R.interiorVertices;
+    ++this->Inserted;
+    this->queueBad(this->Changed); // t itself is gone: w lay inside its circumcircle
+  }
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    const int ti = static_cast<int>(t);
+    if (this->bad(ti))
+    {
+      ++this->R.badTrianglesLeft;
+      const int corner = this->smallestCorner(ti);
+      this->R.badTrianglesAtCorners +=
+        this->constrained(ti, corner) && this->constrained(ti, (corner + 2) % 3);
+    }
+  }
+  return this->R;
+}
+double Refiner::minimumAngle() const
+{
+  double worst = -1.0;
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    if (this->M.region[t] >= 0 && this->Live[t])
+    {
+      worst = std::max(worst, this->smallestAngleCosine(this->M.triangles[t]));
+    }
+  }
+  return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
+}
+} // namespace
+
+void validate(const RefinementParams& p)
+{
+  if (!(p.minimumAngle >= 0.0 && p.minimumAngle <= 34.0))
+  {
+    throw ParameterError(
+      "MinimumAngle = " + std::to_string(p.minimumAngle) + " is out of range [0, 34] (degrees)");
+  }
+  if (!(p.minimumEdgeLength >= 0.0) || !std::isfinite(p.minimumEdgeLength))
+  {
+    throw ParameterError("refinement minimum edge length " + std::to_string(p.minimumEdgeLength) +
+      " is not a finite value >= 0");
+  }
+  if (!(p.insertionBudget >= 0.0 && p.insertionBudget <= 100.0))
+  {
+    throw ParameterError("refinement insertion budget " + std::to_string(p.insertionBudget) +
+      " is out of range [0, 100]");
+  }
+}
+
+RefinementResult refineDelaunay(RegionMesh& mesh,
+  const BoundarySplitter& splitter,
+  const RefinementParams& params,
+  const ProgressReporter& progress)
+{
+  validate(params);
+  const std::size_t nt = mesh.triangles.size(), np = mesh.points.size();
+  if (mesh.region.size() != nt || mesh.level.size() != nt)
+  {
+    throw ParameterError("refineDelaunay: " + std::to_string(nt) + " triangles but " +
+      std::to_string(mesh.region.size()) + " regions and " + std::to_string(mesh.level.size()) +
+      " levels");
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    for (int v : mesh.triangles[t])
+    {
+      if (v < 0 || static_cast<std::size_t>(v) >= np)
+      {
+        throw ParameterError("refineDelaunay: triangle " + std::to_string(t) + " refers to point " +
+          std::to_string(v) + ", not in [0, " + std::to_string(np) + ")");
+      }
+    }
+  }
+  // Two runs from the same mesh (see the top of this file); the one with the larger smallest
+  // angle is kept, the bolder one on a tie.
+  RegionMesh bold = mesh;
+  Refiner first(bold, splitter, params, kBoldFloor, progress.sub(0.0, 0.5));
+  const RefinementResult boldResult = first.run();
+  const double boldAngle = first.minimumAngle();
+  if (params.minimumAngle == 0.0 || boldAngle >= params.minimumAngle)
+  {
+    mesh = std::move(bold);
+    return boldResult;
+  }
+  Refiner second(mesh, splitter, params, 1.0, progress.sub(0.5, 1.0));
+  const RefinementResult safeResult = second.run();
+  if (boldAngle >= second.minimumAngle())
+  {
+    mesh = std::move(bold);
+    return boldResult;
+  }
+  return safeResult;
+}
+
+} // namespace strata

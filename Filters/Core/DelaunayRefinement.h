@@ -1,0 +1,81 @@
+// StrataMesh core: constrained Delaunay refinement of a region-tagged triangle mesh toward a
+// minimum angle (beyond the paper: the last step of the optimization). No VTK.
+#ifndef StrataMeshCore_DelaunayRefinement_h
+#define StrataMeshCore_DelaunayRefinement_h
+
+#include "Geometry.h"
+#include "Progress.h"
+
+#include <array>
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace strata
+{
+
+/// Parameters of refineDelaunay().
+struct RefinementParams
+{
+  /// Degrees. Triangles of a region whose smallest angle is below this are refined. Range
+  /// [0, 34] (above about 34 degrees Delaunay refinement may not end); 0 = no refinement
+  /// (the mesh is still flipped to constrained Delaunay).
+  double minimumAngle = 30.0;
+  /// Model units (> 0 finite, or 0 for no floor). A bad triangle whose shortest edge is
+  /// shorter than this is left as it is, and a region boundary edge shorter than twice this is
+  /// not split: the floor that ends the refinement where the input itself is finer (curves
+  /// closer than this, small input angles).
+  double minimumEdgeLength = 0.0;
+  /// At most this many vertices are inserted per triangle of the input mesh (plus 1000).
+  /// Range [0, 100].
+  double insertionBudget = 1.0;
+};
+
+/// Throws ParameterError naming the parameter and its range.
+void validate(const RefinementParams& params);
+
+/// A region-tagged triangle mesh, refined in place. Triangles are counter-clockwise; an edge
+/// belongs to at most two triangles. An edge between triangles of different regions, or with
+/// one triangle, is a region boundary edge: it is never flipped, only split (on its curve).
+/// Triangles of region < 0 (the exterior) are never refined, and triangles without positive
+/// area are never touched (their edges count as boundary edges).
+struct RegionMesh
+{
+  std::vector<Vec2> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> region; ///< per triangle
+  std::vector<int> level;  ///< per triangle (any tag, e.g. the grid level); pieces inherit it
+};
+
+/// Where a region boundary edge from a to b (region `left` on its left, `right` on its right,
+/// -1 the exterior) is split: sets `at` (normally the point of the curve the edge stands for
+/// nearest to its middle) and returns true, or returns false to keep the edge whole.
+using BoundarySplitter = std::function<bool(Vec2 a, Vec2 b, int left, int right, Vec2& at)>;
+
+struct RefinementResult
+{
+  std::size_t delaunayFlips = 0;    ///< edge flips (to constrained Delaunay, and after insertions)
+  std::size_t interiorVertices = 0; ///< vertices inserted inside a region (off-centres)
+  std::size_t boundaryVertices = 0; ///< vertices inserted on region boundary edges (splits)
+  /// Region triangles still below minimumAngle at the end, and of those the ones whose
+  /// smallest angle lies between two region boundary edges (a corner of the region, which no
+  /// insertion can widen).
+  std::size_t badTrianglesLeft = 0;
+  std::size_t badTrianglesAtCorners = 0;
+  bool budgetReached = false; ///< insertionBudget stopped the refinement
+};
+
+/// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips
+/// the mesh to constrained Delaunay, then inserts the off-centre of every bad triangle, or,
+/// when that point would encroach a region boundary edge (lie inside its diametral circle or
+/// beyond it), splits that edge at the point `splitter` gives. Throws ParameterError for
+/// parameters out of range or a mesh that breaks the preconditions of RegionMesh (sizes,
+/// point ids, an edge in three triangles), Aborted when the progress callback asks to stop.
+RefinementResult refineDelaunay(RegionMesh& mesh,
+  const BoundarySplitter& splitter,
+  const RefinementParams& params = {},
+  const ProgressReporter& progress = ProgressReporter());
+
+} // namespace strata
+
+#endif
