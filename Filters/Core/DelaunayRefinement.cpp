@@ -34,6 +34,18 @@
 //    shorter than twice minimumEdgeLength, the splitter refuses, or a piece would not be
 //    counter-clockwise; the bad triangle is queued again. Every triangle a change creates is
 //    queued when bad. The number of insertions is capped by insertionBudget.
+// 4. Transactions. Each insertion (with its flips) is recorded and undone when the triangles
+//    it made have a smaller smallest angle than min(floor, the smallest angle of the triangles
+//    it replaced). Ruppert's refinement needs such temporary losses away from the boundary,
+//    but where the mesh's boundary edges meet at small angles (a layer thinner than its
+//    triangles, a boundary cut short near a junction) it cascades into slivers. Hence several
+//    runs from the same mesh, the one with the largest smallest angle kept:
+//    - a cautious run, floor = minimumAngle: no insertion ever lowers a local smallest angle,
+//      so its result is never worse than the compressed mesh;
+//    - up to three bold runs, floor = minimumAngle / 4, which reach the bound where the
+//      boundary allows it; each run after the first is cautious inside disks (radius twice
+//      the longest edge) around the triangles where the runs before ended below the best
+//      smallest angle so far. The runs stop once one reaches minimumAngle.
 // No step moves an existing vertex, inverts a triangle or changes a triangle's region; the
 // regions' areas change only where a boundary edge is split onto its curve.
 #include "DelaunayRefinement.h"
@@ -53,7 +65,8 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxWalk = 1 << 16;       // steps of a point location walk
 constexpr std::size_t kMaxCavity = 256; // triangles of a cavity looked at for encroachment
-constexpr double kBoldFloor = 0.25;     // the bold run's floor, relative to minimumAngle
+constexpr double kBoldFloor = 0.25;     // the bold runs' floor, relative to minimumAngle
+constexpr int kBoldRuns = 3;            // bold runs at most
 
 // > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
 // beyond a relative rounding margin.
@@ -77,6 +90,13 @@ Vec2 circumcenter(Vec2 a, Vec2 b, Vec2 c)
   return a + Vec2{ (ca.y * lb - ba.y * lc) / d, (ba.x * lc - ca.x * lb) / d };
 }
 
+// A disk where insertions must not lower the local smallest angle (see refineDelaunay()).
+struct Zone
+{
+  Vec2 center;
+  double radius2;
+};
+
 class Refiner
 {
 public:
@@ -84,15 +104,18 @@ public:
     const BoundarySplitter& splitter,
     const RefinementParams& params,
     double floorFraction,
+    const std::vector<Zone>& cautious,
     const ProgressReporter& progress)
     : M(mesh)
     , Split(splitter)
     , P(params)
     , Progress(progress)
+    , Cautious(cautious)
   {
     const double theta = params.minimumAngle * kPi / 180.0;
     this->CosBad = std::cos(theta);
     this->CosFloor = std::cos(floorFraction * theta);
+    this->CosCautious = std::cos(theta);
     // Off-centre apex angle: 10% above the bound, so the new triangle is not bad itself.
     this->OffDistance = 0.5 / std::tan(0.5 * std::min(1.1 * theta, kPi / 3.0));
     this->Budget = static_cast<std::size_t>(
@@ -103,6 +126,9 @@ public:
   RefinementResult run();
   /// The smallest angle (degrees) of the region triangles.
   double minimumAngle() const;
+  /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
+  /// twice the longest edge), appended to `zones`.
+  void zonesBelow(double angle, std::vector<Zone>& zones) const;
 
 private:
   int apex(int t, int k) const { return this->M.triangles[t][(k + 2) % 3]; }
@@ -171,7 +197,7 @@ private:
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
   bool encroached(int start, Vec2 p, int& segT, int& segK);
   void queueBad(const std::vector<int>& tris);
-  void poll()
+  void poll() const
   {
     if ((++this->Ticks & 1023) == 0)
     {
@@ -189,7 +215,7 @@ private:
   double OffDistance = 0.0;
   std::size_t Budget = 0;
   std::size_t Inserted = 0;
-  std::size_t Ticks = 0;
+  mutable std::size_t Ticks = 0;
   std::vector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
   std::vector<std::uint8_t> Live;      // positive area at the start (others are frozen)
   std::deque<int> Queue;
@@ -206,7 +232,9 @@ private:
   int Tx = 0;
   bool Recording = false;
   std::size_t Tri0 = 0, Points0 = 0, Flips0 = 0;
-  double CosFloor = 1.0; // an insertion may not leave an angle below min(this, the old smallest)
+  double CosFloor = 1.0;    // an insertion may not leave an angle below min(this, the old smallest)
+  double CosCautious = 1.0; // the same inside the cautious zones
+  const std::vector<Zone>& Cautious;
   std::vector<int> Changed;
   RefinementResult R;
 };
@@ -239,6 +267,7 @@ void Refiner::buildNeighbours()
   this->Nbr.assign(nt, { -1, -1, -1 });
   for (std::size_t t = 0; t < nt; ++t)
   {
+    this->poll();
     const auto& tri = this->M.triangles[t];
     for (int k = 0; k < 3; ++k)
     {
@@ -527,7 +556,13 @@ bool Refiner::commit()
       after = std::max(after, this->smallestAngleCosine(this->M.triangles[t]));
     }
   }
-  if (after <= std::max(std::min(before, 1.0), this->CosFloor) + 1e-12)
+  double floor = this->CosFloor;
+  const Vec2 w = this->M.points.back(); // the vertex this transaction inserted
+  for (const Zone& z : this->Cautious)
+  {
+    floor = norm2(w - z.center) < z.radius2 ? this->CosCautious : floor;
+  }
+  if (after <= std::max(std::min(before, 1.0), floor) + 1e-12)
   {
     return true;
   }
@@ -553,9 +588,9 @@ bool Refiner::commit()
 bool Refiner::splitBoundary(int t, int k)
 {
   const int u = this->Nbr[t][k];
-  if (u < 0 || !this->Live[t] || !this->Live[u])
+  if (!this->Live[t] || (u >= 0 && !this->Live[u]))
   {
-    return false; // the mesh's outer border, or beside a frozen triangle
+    return false; // beside a frozen triangle
   }
   const Vec2 a = this->X(this->M.triangles[t][k]), b = this->X(this->M.triangles[t][(k + 1) % 3]);
   const double l = norm(b - a);
@@ -564,7 +599,7 @@ bool Refiner::splitBoundary(int t, int k)
     return false;
   }
   Vec2 w;
-  if (!this->Split(a, b, this->M.region[t], this->M.region[u], w) ||
+  if (!this->Split(a, b, this->M.region[t], u >= 0 ? this->M.region[u] : -1, w) ||
     !(norm(w - a) > 1e-6 * l && norm(w - b) > 1e-6 * l))
   {
     return false;
@@ -682,6 +717,7 @@ RefinementResult Refiner::run()
   this->Saved.assign(nt, 0);
   for (std::size_t t = 0; t < nt; ++t)
   {
+    this->poll();
     this->Live[t] = this->positive(static_cast<int>(t));
   }
   // Constrained Delaunay (Lawson).
@@ -689,6 +725,7 @@ RefinementResult Refiner::run()
     std::vector<std::array<int, 2>> stack;
     for (std::size_t t = 0; t < nt; ++t)
     {
+      this->poll();
       for (int k = 0; k < 3; ++k)
       {
         if (static_cast<std::size_t>(this->Nbr[t][k]) > t)
@@ -717,6 +754,7 @@ RefinementResult Refiner::run()
   {
     for (std::size_t t = 0; t < nt; ++t)
     {
+      this->poll();
       if (this->bad(static_cast<int>(t)))
       {
         this->Queue.push_back(static_cast<int>(t));
@@ -807,6 +845,7 @@ RefinementResult Refiner::run()
   }
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
+    this->poll();
     const int ti = static_cast<int>(t);
     if (this->bad(ti))
     {
@@ -823,12 +862,28 @@ double Refiner::minimumAngle() const
   double worst = -1.0;
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
+    this->poll();
     if (this->M.region[t] >= 0 && this->Live[t])
     {
       worst = std::max(worst, this->smallestAngleCosine(this->M.triangles[t]));
     }
   }
   return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
+}
+void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
+{
+  const double cosine = std::cos(angle * kPi / 180.0);
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    this->poll();
+    const auto& tri = this->M.triangles[t];
+    if (this->M.region[t] >= 0 && this->Live[t] && this->smallestAngleCosine(tri) > cosine)
+    {
+      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+      const double longest = std::max({ norm2(b - a), norm2(c - b), norm2(a - c) });
+      zones.push_back({ (1.0 / 3.0) * (a + b + c), 4.0 * longest });
+    }
+  }
 }
 } // namespace
 
@@ -875,25 +930,38 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       }
     }
   }
-  // Two runs from the same mesh (see the top of this file); the one with the larger smallest
-  // angle is kept, the bolder one on a tie.
-  RegionMesh bold = mesh;
-  Refiner first(bold, splitter, params, kBoldFloor, progress.sub(0.0, 0.5));
-  const RefinementResult boldResult = first.run();
-  const double boldAngle = first.minimumAngle();
-  if (params.minimumAngle == 0.0 || boldAngle >= params.minimumAngle)
+  // The cautious run first (its smallest angle is the one to beat), then bold runs, each with
+  // cautious zones around the triangles where the previous bold run ended below the best so
+  // far (see the top of this file); the run with the largest smallest angle is kept.
+  const std::vector<Zone> none;
+  RegionMesh best = mesh;
+  Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.0, 0.25));
+  RefinementResult bestResult = cautious.run();
+  double bestAngle = cautious.minimumAngle();
+  std::vector<Zone> zones;
+  for (int round = 0;
+       round < kBoldRuns && params.minimumAngle > 0.0 && bestAngle < params.minimumAngle;
+       ++round)
   {
-    mesh = std::move(bold);
-    return boldResult;
+    RegionMesh bold = mesh;
+    Refiner run(bold,
+      splitter,
+      params,
+      kBoldFloor,
+      zones,
+      progress.sub(0.25 + 0.75 * round / kBoldRuns, 0.25 + 0.75 * (round + 1) / kBoldRuns));
+    const RefinementResult result = run.run();
+    const double angle = run.minimumAngle();
+    if (angle > bestAngle)
+    {
+      best = std::move(bold);
+      bestResult = result;
+      bestAngle = angle;
+    }
+    run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
-  Refiner second(mesh, splitter, params, 1.0, progress.sub(0.5, 1.0));
-  const RefinementResult safeResult = second.run();
-  if (boldAngle >= second.minimumAngle())
-  {
-    mesh = std::move(bold);
-    return boldResult;
-  }
-  return safeResult;
+  mesh = std::move(best);
+  return bestResult;
 }
 
 } // namespace strata

@@ -48,8 +48,9 @@ struct RegionMesh
 };
 
 /// Where a region boundary edge from a to b (region `left` on its left, `right` on its right,
-/// -1 the exterior) is split: sets `at` (normally the point of the curve the edge stands for
-/// nearest to its middle) and returns true, or returns false to keep the edge whole.
+/// -1 the exterior or no triangle: the mesh's outer border) is split: sets `at` (normally the point
+/// of the curve the edge stands for nearest to its middle) and returns true, or returns false to
+/// keep the edge whole.
 using BoundarySplitter = std::function<bool(Vec2 a, Vec2 b, int left, int right, Vec2& at)>;
 
 struct RefinementResult
@@ -68,7 +69,10 @@ struct RefinementResult
 /// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips
 /// the mesh to constrained Delaunay, then inserts the off-centre of every bad triangle, or,
 /// when that point would encroach a region boundary edge (lie inside its diametral circle or
-/// beyond it), splits that edge at the point `splitter` gives. Throws ParameterError for
+/// beyond it), splits that edge at the point `splitter` gives. Of a cautious run (no insertion
+/// lowers a local smallest angle) and up to three bolder ones, the result with the largest
+/// smallest angle is kept: never below the input mesh's (after the flips). The result's counts
+/// are those of the run kept (delaunayFlips included). Throws ParameterError for
 /// parameters out of range or a mesh that breaks the preconditions of RegionMesh (sizes,
 /// point ids, an edge in three triangles), Aborted when the progress callback asks to stop.
 RefinementResult refineDelaunay(RegionMesh& mesh,

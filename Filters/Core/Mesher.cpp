@@ -292,8 +292,11 @@ MesherResult triangulate(const RawPolylines& input,
     RefinementParams rp = params.refinement;
     if (!(rp.minimumEdgeLength > 0.0))
     {
-      // The grid's finest leg: the refinement goes no finer than the grid could.
-      rp.minimumEdgeLength = grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
+      // The user's MinimumEdgeLength, else the grid's finest leg: the refinement goes no
+      // finer than the grid could.
+      rp.minimumEdgeLength = grid.params().minEdgeLength > 0.0
+        ? grid.params().minEdgeLength
+        : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
     }
     const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
     {

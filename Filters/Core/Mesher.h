@@ -28,8 +28,9 @@ struct MesherParams
   ClassificationParams classification;
   CompressionParams compression;
   /// Delaunay refinement toward refinement.minimumAngle, run after the compression when
-  /// compression.optimize is on. refinement.minimumEdgeLength 0 (default) means the grid's
-  /// finest leg: the hypotenuse at Grid48Params::junctionMaxLevel over sqrt(2).
+  /// compression.optimize is on. refinement.minimumEdgeLength 0 (default) means
+  /// grid.minEdgeLength when that is set, else the grid's finest leg (the hypotenuse at
+  /// Grid48Params::junctionMaxLevel over sqrt(2)).
   RefinementParams refinement;
 };
 

@@ -114,6 +114,9 @@ const std::vector<BadValue> BadValues = {
   { "BoundaryTolerance",
     [](auto* f) { f->SetBoundaryTolerance(-1.0); },
     "BoundaryTolerance = -1 is out of range [0, 10]" },
+  { "MinimumAngle",
+    [](auto* f) { f->SetMinimumAngle(40.0); },
+    "MinimumAngle = 40 is out of range [0, 34]" },
 };
 
 } // namespace

@@ -20,6 +20,19 @@ def signed_areas(mesh):
     return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
 
 
+def min_angles(mesh):
+    """Smallest angle of each triangle in degrees, from the points."""
+    pts = np.asarray(mesh.Points)[:, :2]
+    tri = pts[np.asarray(mesh.Cells).reshape(-1, 4)[:, 1:]]
+    angles = []
+    for i in range(3):
+        u = tri[:, (i + 1) % 3] - tri[:, i]
+        v = tri[:, (i + 2) % 3] - tri[:, i]
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        angles.append(np.degrees(np.arctan2(np.abs(cross), (u * v).sum(axis=1))))
+    return np.min(angles, axis=0)
+
+
 class TriangulationTest(unittest.TestCase):
     def test_properties_have_the_documented_defaults_and_names(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
@@ -32,6 +45,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertEqual(mesh.Optimization, 1)
         self.assertAlmostEqual(mesh.FeatureAngle, 140.0)
         self.assertAlmostEqual(mesh.BoundaryTolerance, 0.25)
+        self.assertAlmostEqual(mesh.MinimumAngle, 30.0)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
                      "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
                      "MinimumEdgeLength"):
@@ -105,6 +119,21 @@ class TriangulationTest(unittest.TestCase):
         out = dsa.WrapDataObject(servermanager.Fetch(mesh))
         self.assertLessEqual(np.asarray(out.CellData["Level"]).max(), 12)
         self.assertGreater(out.GetNumberOfCells(), 0)
+
+    def test_minimum_angle_refines_to_the_bound_and_zero_turns_it_off(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("salt_dome.vtp")])
+        mesh = Triangulation(Input=model)
+        on = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        mesh.MinimumAngle = 0.0
+        off = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        self.assertGreater(on.FieldData["RefinementVertices"][0], 0)
+        self.assertEqual(off.FieldData["RefinementVertices"][0], 0)
+        # Recomputed from the points, not taken from the filter's arrays.
+        for out in (on, off):
+            self.assertTrue((signed_areas(out) > 0).all())
+        smallest = min_angles(on).min()
+        self.assertGreaterEqual(smallest, 30.0 - 1e-6)
+        self.assertGreater(smallest, min_angles(off).min())
 
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])

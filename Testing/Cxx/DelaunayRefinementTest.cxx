@@ -1,0 +1,349 @@
+// Tests of the constrained Delaunay refinement (core unit DelaunayRefinement): invariants on
+// small meshes built by hand (regions kept, areas conserved, no inverted triangle, the angle
+// bound reached, boundary edges kept), its floors, and its preconditions.
+#include "DelaunayRefinement.h"
+#include "Errors.h"
+#include "Quality.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <utility>
+#include <vector>
+
+using strata::RefinementParams;
+using strata::RefinementResult;
+using strata::RegionMesh;
+using strata::Vec2;
+
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+
+// Rows of points at the given heights, columns every dx over [0, length]; the quads between
+// two rows are split into two triangles (diagonals alternating) and take the region of their
+// band (band i lies between rows i and i + 1).
+RegionMesh bands(const std::vector<double>& rows, double length, double dx)
+{
+  RegionMesh m;
+  const int nx = static_cast<int>(std::lround(length / dx)) + 1;
+  for (double y : rows)
+  {
+    for (int i = 0; i < nx; ++i)
+    {
+      m.points.push_back({ i * dx, y });
+    }
+  }
+  for (std::size_t r = 0; r + 1 < rows.size(); ++r)
+  {
+    for (int i = 0; i + 1 < nx; ++i)
+    {
+      const int a = static_cast<int>(r) * nx + i, b = a + 1, c = a + nx + 1, d = a + nx;
+      if (i % 2 == 0)
+      {
+        m.triangles.push_back({ a, b, c });
+        m.triangles.push_back({ a, c, d });
+      }
+      else
+      {
+        m.triangles.push_back({ a, b, d });
+        m.triangles.push_back({ b, c, d });
+      }
+      m.region.insert(m.region.end(), 2, static_cast<int>(r));
+      m.level.insert(m.level.end(), 2, 0);
+    }
+  }
+  return m;
+}
+
+// Straight boundaries: every boundary edge is split at its middle.
+bool middle(Vec2 a, Vec2 b, int, int, Vec2& at)
+{
+  at = 0.5 * (a + b);
+  return true;
+}
+
+double area(const RegionMesh& m, std::size_t t)
+{
+  const auto& tri = m.triangles[t];
+  return 0.5 * strata::orient2d(m.points[tri[0]], m.points[tri[1]], m.points[tri[2]]);
+}
+
+double smallestAngle(const RegionMesh& m, std::size_t t)
+{
+  const auto& tri = m.triangles[t];
+  const auto angles = strata::triangleAngles(m.points[tri[0]], m.points[tri[1]], m.points[tri[2]]);
+  return std::min({ angles[0], angles[1], angles[2] });
+}
+
+double meshMinimumAngle(const RegionMesh& m)
+{
+  double worst = 180.0;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    worst = std::min(worst, smallestAngle(m, t));
+  }
+  return worst;
+}
+
+std::map<int, double> regionAreas(const RegionMesh& m)
+{
+  std::map<int, double> a;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    a[m.region[t]] += area(m, t);
+  }
+  return a;
+}
+
+// Directed edges of the mesh: each at most once (a consistently oriented manifold).
+std::map<std::pair<int, int>, std::size_t> directedEdges(const RegionMesh& m)
+{
+  std::map<std::pair<int, int>, std::size_t> edges;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::pair<int, int> e(m.triangles[t][k], m.triangles[t][(k + 1) % 3]);
+      EXPECT_EQ(edges.count(e), 0u) << "edge " << e.first << "-" << e.second << " twice";
+      edges[e] = t;
+    }
+  }
+  return edges;
+}
+
+// Region boundary edges (undirected, as point pairs) of the mesh.
+std::set<std::pair<int, int>> boundaryEdges(const RegionMesh& m)
+{
+  const auto edges = directedEdges(m);
+  std::set<std::pair<int, int>> out;
+  for (const auto& [e, t] : edges)
+  {
+    const auto back = edges.find({ e.second, e.first });
+    if (back == edges.end() || m.region[back->second] != m.region[t])
+    {
+      out.insert({ std::min(e.first, e.second), std::max(e.first, e.second) });
+    }
+  }
+  return out;
+}
+
+void expectValid(const RegionMesh& m)
+{
+  ASSERT_EQ(m.region.size(), m.triangles.size());
+  ASSERT_EQ(m.level.size(), m.triangles.size());
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    EXPECT_GT(area(m, t), 0.0) << "triangle " << t << " is not counter-clockwise";
+  }
+  directedEdges(m);
+}
+} // namespace
+
+// A layer 1 thick between two 10 thick ones, meshed with 10-long strip triangles (5.7
+// degrees): refined to 30 degrees everywhere, each triangle in its band, each band's area kept.
+TEST(DelaunayRefinementTest, AThinStripBetweenTwoLayersReachesTheAngleBound)
+{
+  RegionMesh m = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+  const double before = meshMinimumAngle(m);
+  ASSERT_LT(before, 6.0);
+  const RefinementResult r = strata::refineDelaunay(m, middle);
+  expectValid(m);
+  EXPECT_EQ(r.badTrianglesLeft, 0u);
+  EXPECT_FALSE(r.budgetReached);
+  EXPECT_GT(r.boundaryVertices, 0u);
+  EXPECT_GE(meshMinimumAngle(m), 30.0 - 1e-9);
+  const std::map<int, double> a = regionAreas(m);
+  EXPECT_NEAR(a.at(0), 1000.0, 1e-9);
+  EXPECT_NEAR(a.at(1), 100.0, 1e-9);
+  EXPECT_NEAR(a.at(2), 1000.0, 1e-9);
+  const double lo[3] = { -10.0, 0.0, 1.0 }, hi[3] = { 0.0, 1.0, 11.0 };
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    for (int v : m.triangles[t])
+    {
+      EXPECT_GE(m.points[v].y, lo[m.region[t]] - 1e-12) << "triangle " << t;
+      EXPECT_LE(m.points[v].y, hi[m.region[t]] + 1e-12) << "triangle " << t;
+    }
+  }
+}
+
+// With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
+// the region boundary edges (here the line x = 50 between two regions, and the border) are the
+// same, no edge inside a region has its opposite vertex inside the other circumcircle, and the
+// smallest angle does not decrease.
+TEST(DelaunayRefinementTest, FlipsToConstrainedDelaunayKeepingRegionBoundaries)
+{
+  RegionMesh m = bands({ 0.0, 10.0, 20.0, 30.0, 40.0, 50.0 }, 100.0, 10.0);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-3.0, 3.0);
+  for (Vec2& p : m.points)
+  {
+    const bool border = p.x == 0.0 || p.x == 100.0 || p.y == 0.0 || p.y == 50.0;
+    if (!border && p.x != 50.0)
+    {
+      p = p + Vec2{ jitter(rng), jitter(rng) };
+    }
+  }
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    const auto& tri = m.triangles[t];
+    m.region[t] = (m.points[tri[0]].x + m.points[tri[1]].x + m.points[tri[2]].x) / 3.0 < 50.0;
+  }
+  const std::size_t points = m.points.size();
+  const std::set<std::pair<int, int>> boundary = boundaryEdges(m);
+  const double before = meshMinimumAngle(m);
+  RefinementParams p;
+  p.minimumAngle = 0.0;
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.delaunayFlips, 0u);
+  EXPECT_EQ(m.points.size(), points);
+  EXPECT_EQ(boundaryEdges(m), boundary);
+  EXPECT_GE(meshMinimumAngle(m), before);
+  const auto edges = directedEdges(m);
+  for (const auto& [e, t] : edges)
+  {
+    const auto back = edges.find({ e.second, e.first });
+    if (back == edges.end() || m.region[back->second] != m.region[t])
+    {
+      continue;
+    }
+    const auto& tri = m.triangles[t];
+    const auto& other = m.triangles[back->second];
+    int d = other[0] + other[1] + other[2] - e.first - e.second;
+    const Vec2 a = m.points[tri[0]], b = m.points[tri[1]], c = m.points[tri[2]];
+    const Vec2 q = m.points[d];
+    // In-circle determinant relative to q, normalised by the squared edge lengths.
+    const Vec2 ad = a - q, bd = b - q, cd = c - q;
+    const double det = strata::norm2(ad) * strata::cross(bd, cd) +
+      strata::norm2(bd) * strata::cross(cd, ad) + strata::norm2(cd) * strata::cross(ad, bd);
+    EXPECT_LE(det, 1e-9 * std::pow(strata::norm2(b - a), 2))
+      << "edge " << e.first << "-" << e.second << " is not Delaunay";
+  }
+}
+
+// A region that is a single 10-degree wedge: its smallest angle lies between two boundary
+// edges, so no insertion can widen it; it is left and counted, and the refinement ends.
+TEST(DelaunayRefinementTest, ACornerSharperThanTheBoundIsLeftAndCounted)
+{
+  RegionMesh m;
+  const double a = 10.0 * kPi / 180.0;
+  m.points = { { 0.0, 0.0 }, { 10.0, 0.0 }, { 10.0 * std::cos(a), 10.0 * std::sin(a) } };
+  m.triangles = { { 0, 1, 2 } };
+  m.region = { 0 };
+  m.level = { 3 };
+  const RefinementResult r = strata::refineDelaunay(m, middle);
+  expectValid(m);
+  EXPECT_EQ(r.badTrianglesLeft, 1u);
+  EXPECT_EQ(r.badTrianglesAtCorners, 1u);
+  EXPECT_EQ(r.interiorVertices, 0u);
+}
+
+// Exterior triangles (region < 0) are never refined; a floor longer than every edge stops
+// all insertions; a splitter that refuses keeps every boundary edge whole.
+TEST(DelaunayRefinementTest, FloorsExteriorAndRefusedSplitsStopTheRefinement)
+{
+  {
+    RegionMesh m = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+    for (int& r : m.region)
+    {
+      r = r == 1 ? -1 : r;
+    }
+    const RefinementResult r = strata::refineDelaunay(m, middle);
+    expectValid(m);
+    EXPECT_EQ(r.badTrianglesLeft, 0u); // the strip is exterior: nothing is bad
+    EXPECT_EQ(r.interiorVertices + r.boundaryVertices, 0u);
+  }
+  {
+    RegionMesh m = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+    RefinementParams p;
+    p.minimumEdgeLength = 100.0;
+    const RefinementResult r = strata::refineDelaunay(m, middle, p);
+    expectValid(m);
+    EXPECT_EQ(r.interiorVertices + r.boundaryVertices, 0u);
+    EXPECT_GT(r.badTrianglesLeft, 0u);
+  }
+  {
+    RegionMesh m = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+    const std::set<std::pair<int, int>> boundary = boundaryEdges(m);
+    const std::map<int, double> before = regionAreas(m);
+    const RefinementResult r =
+      strata::refineDelaunay(m, [](Vec2, Vec2, int, int, Vec2&) { return false; });
+    expectValid(m);
+    EXPECT_EQ(r.boundaryVertices, 0u);
+    EXPECT_EQ(boundaryEdges(m), boundary);
+    for (const auto& [region, a] : regionAreas(m))
+    {
+      EXPECT_NEAR(a, before.at(region), 1e-9) << "region " << region;
+    }
+    EXPECT_GE(meshMinimumAngle(m), 5.0); // flips only: never below the 5.7-degree start
+  }
+}
+
+// The insertion budget caps the work: 1000 vertices (budget 0 x triangles + 1000) on a strip
+// that needs more.
+TEST(DelaunayRefinementTest, TheInsertionBudgetCapsTheVerticesInserted)
+{
+  RegionMesh m = bands({ -10.0, 0.0, 0.1, 10.1 }, 2000.0, 10.0);
+  RefinementParams p;
+  p.insertionBudget = 0.0;
+  const std::size_t points = m.points.size();
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_TRUE(r.budgetReached);
+  EXPECT_LE(m.points.size() - points, 2u * 1000u); // at most 1000 per run, two runs
+  EXPECT_GT(r.badTrianglesLeft, 0u);
+}
+
+TEST(DelaunayRefinementTest, AbortIsHonoured)
+{
+  RegionMesh m = bands({ -10.0, 0.0, 0.5, 10.5 }, 2000.0, 10.0);
+  int calls = 0;
+  const strata::ProgressReporter progress(
+    [&](double fraction, const char*)
+    {
+      EXPECT_GE(fraction, 0.0);
+      EXPECT_LE(fraction, 1.0);
+      return ++calls < 3;
+    });
+  EXPECT_THROW(strata::refineDelaunay(m, middle, {}, progress), strata::Aborted);
+}
+
+TEST(DelaunayRefinementTest, MalformedMeshesAndParametersAreRejected)
+{
+  const auto message = [](RegionMesh m, RefinementParams p)
+  {
+    try
+    {
+      strata::refineDelaunay(m, middle, p);
+    }
+    catch (const strata::ParameterError& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const RegionMesh good = bands({ 0.0, 1.0, 2.0 }, 4.0, 1.0);
+  RefinementParams p;
+  p.minimumAngle = 40.0;
+  EXPECT_NE(message(good, p).find("MinimumAngle = 40"), std::string::npos);
+  p = {};
+  p.insertionBudget = -1.0;
+  EXPECT_NE(message(good, p).find("budget"), std::string::npos);
+  RegionMesh m = good;
+  m.region.pop_back();
+  EXPECT_NE(message(m, {}).find("regions"), std::string::npos);
+  m = good;
+  m.triangles[0][1] = 999;
+  EXPECT_NE(message(m, {}).find("point 999"), std::string::npos);
+  m = good;
+  m.triangles.push_back(m.triangles[0]); // the same triangle twice: edges on one side twice
+  m.region.push_back(0);
+  m.level.push_back(0);
+  EXPECT_NE(message(m, {}).find("more than two triangles"), std::string::npos);
+}
