@@ -1209,6 +1209,7 @@ void Compressor::buildSubMesh()
   std::size_t onBorder = 0;
   for (std::size_t i = 0; i < np; ++i)
   {
+    this->poll(i);
     if (this->Candidate[i] || this->JunctionOf[i] >= 0 || this->JunctionTarget[i] >= 0)
     {
       if (isBorder(static_cast<int>(i)))
@@ -1232,6 +1233,7 @@ void Compressor::buildSubMesh()
     std::vector<int> next;
     for (int g : frontier)
     {
+      this->poll(static_cast<std::size_t>(&g - frontier.data()));
       for (int s = this->GStarStart[g]; s < this->GStarStart[g + 1]; ++s)
       {
         for (int v : this->Grid.triangles[this->GStarItems[s]])
@@ -1258,6 +1260,7 @@ void Compressor::buildSubMesh()
   std::vector<int> localTri(nt, -1);
   for (int g : active)
   {
+    this->poll(static_cast<std::size_t>(&g - active.data()));
     for (int s = this->GStarStart[g]; s < this->GStarStart[g + 1]; ++s)
     {
       const int t = this->GStarItems[s];
@@ -1317,6 +1320,7 @@ void Compressor::buildSubMesh()
   this->TriEdge.assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {
+    this->poll(t);
     for (int k = 0; k < 3; ++k)
     {
       const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
@@ -1349,6 +1353,7 @@ void Compressor::buildSubMesh()
   this->MinTwice.resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
+    this->poll(t);
     const std::array<int, 3>& tri = this->Tri[t];
     this->RestTwice[t] = orient2d(rest[tri[0]], rest[tri[1]], rest[tri[2]]);
     this->MinTwice[t] = kCollapse * this->RestTwice[t];
@@ -1360,7 +1365,9 @@ void Compressor::buildSubMesh()
   SpringMesh sm;
   sm.triangles = this->Tri;
   sm.edges = std::move(edges);
+  this->Progress.report(this->At, this->Stage);
   this->Sys = std::make_unique<SpringSystem>(std::move(sm), std::move(x), rest, sp);
+  this->Progress.report(this->At, this->Stage);
   this->rebuildStars();
 
   // States.
@@ -1376,6 +1383,7 @@ void Compressor::buildSubMesh()
   this->Claimed.assign(this->TheModel.nodes.size(), 0);
   for (std::size_t i = 0; i < nv; ++i)
   {
+    this->poll(i);
     const int li = static_cast<int>(i);
     const int g = this->Global[i];
     if (li >= this->NumActive)
@@ -1777,6 +1785,7 @@ std::size_t Compressor::pushNewCrossings()
   // pushed onto it. (Crossings between free vertices are the edges above.)
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
+    this->poll(t);
     const std::array<int, 3>& tri = this->Tri[t];
     int freeCorner = -1, onCurve = 0;
     for (int v : tri)
@@ -1802,6 +1811,7 @@ std::size_t Compressor::pushNewCrossings()
   std::size_t count = 0;
   for (int i = 0; i < this->NumActive; ++i)
   {
+    this->poll(static_cast<std::size_t>(i));
     if (push[i] && this->St[i] == Free)
     {
       this->startPush(i, this->Rails.closest(x[i], this->RailScratch));

@@ -123,7 +123,14 @@ public:
       1000;
   }
 
+  /// Neighbours, frozen triangles, then Lawson's flips to constrained Delaunay (counted in
+  /// the result's delaunayFlips).
+  void prepare();
+  /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
+  void adopt(const Refiner& prepared);
+  /// The refinement of a prepared mesh.
   RefinementResult run();
+  std::size_t flips() const { return this->R.delaunayFlips; }
   /// The smallest angle (degrees) of the region triangles.
   double minimumAngle() const;
   /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
@@ -709,7 +716,7 @@ void Refiner::queueBad(const std::vector<int>& tris)
   }
 }
 
-RefinementResult Refiner::run()
+void Refiner::prepare()
 {
   const std::size_t nt = this->M.triangles.size();
   this->buildNeighbours();
@@ -750,6 +757,18 @@ RefinementResult Refiner::run()
       }
     }
   }
+}
+
+void Refiner::adopt(const Refiner& prepared)
+{
+  this->Nbr = prepared.Nbr;
+  this->Live = prepared.Live;
+  this->Saved.assign(this->M.triangles.size(), 0);
+}
+
+RefinementResult Refiner::run()
+{
+  const std::size_t nt = this->M.triangles.size();
   if (this->P.minimumAngle > 0.0)
   {
     for (std::size_t t = 0; t < nt; ++t)
@@ -934,8 +953,12 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   // cautious zones around the triangles where the previous bold run ended below the best so
   // far (see the top of this file); the run with the largest smallest angle is kept.
   const std::vector<Zone> none;
+  Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
+  base.prepare(); // mesh is constrained Delaunay from here on
+  const std::size_t flips = base.flips();
   RegionMesh best = mesh;
-  Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.0, 0.25));
+  Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
+  cautious.adopt(base);
   RefinementResult bestResult = cautious.run();
   double bestAngle = cautious.minimumAngle();
   std::vector<Zone> zones;
@@ -949,7 +972,8 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       params,
       kBoldFloor,
       zones,
-      progress.sub(0.25 + 0.75 * round / kBoldRuns, 0.25 + 0.75 * (round + 1) / kBoldRuns));
+      progress.sub(0.3 + 0.7 * round / kBoldRuns, 0.3 + 0.7 * (round + 1) / kBoldRuns));
+    run.adopt(base);
     const RefinementResult result = run.run();
     const double angle = run.minimumAngle();
     if (angle > bestAngle)
@@ -960,6 +984,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
+  bestResult.delaunayFlips += flips;
   mesh = std::move(best);
   return bestResult;
 }

@@ -381,7 +381,9 @@ MesherResult triangulate(const RawPolylines& input,
     result.regionId.push_back(compressed.triangleRegion[t]);
     result.level.push_back(compressed.triangleLevel[t]);
   }
+  progress.report(0.95, "writing the mesh");
   const std::vector<TriangleQuality> q = triangleQualities(result.points, result.triangles);
+  progress.report(0.95, "writing the mesh");
   result.minAngle.resize(q.size());
   result.maxAngle.resize(q.size());
   result.radiusRatio.resize(q.size());
@@ -393,6 +395,7 @@ MesherResult triangulate(const RawPolylines& input,
     result.radiusRatio[t] = q[t].radiusRatio;
     result.area[t] = q[t].area;
   }
+  progress.report(0.95, "writing the mesh");
   const QualitySummary qs = summarizeQuality(q);
   result.summary.trianglesAtSharpCorners =
     trianglesAtSharpCorners(model, result.points, result.triangles, result.minAngle);
@@ -403,7 +406,9 @@ MesherResult triangulate(const RawPolylines& input,
   }
 
   // Approximated boundary, vertex classes.
+  progress.report(0.95, "writing the mesh");
   result.boundary = approximatedBoundary(result.points, result.triangles, result.regionId);
+  progress.report(0.95, "writing the mesh");
   result.vertexClass.assign(result.points.size(), VertexInterior);
   {
     // Boundary vertices: ends of an edge whose two sides have different regions (or one side
