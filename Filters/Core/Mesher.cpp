@@ -85,6 +85,74 @@ std::size_t trianglesAtSharpCorners(const Model& model,
   return count;
 }
 
+// Vertices of the region boundary (an edge between triangles of different regions, -1 the
+// exterior) farther than `tolerance` from the curves that the compression could not place:
+// each is moved to its closest curve point when every triangle around it stays
+// counter-clockwise (the Delaunay refinement after this mends the angles). Returns how many
+// moved.
+std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
+  const BoundaryRails& rails,
+  StripTreeScratch& scratch,
+  double tolerance)
+{
+  const std::size_t np = mesh.points.size(), nt = mesh.triangles.size();
+  std::vector<int> start(np + 1, 0);
+  for (const auto& tri : mesh.triangles)
+  {
+    for (int v : tri)
+    {
+      ++start[v + 1];
+    }
+  }
+  for (std::size_t i = 0; i < np; ++i)
+  {
+    start[i + 1] += start[i];
+  }
+  std::vector<int> star(start.back());
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      for (int v : mesh.triangles[t])
+      {
+        star[fill[v]++] = static_cast<int>(t);
+      }
+    }
+  }
+  std::size_t moved = 0;
+  for (std::size_t v = 0; v < np; ++v)
+  {
+    bool boundary = false;
+    for (int s = start[v] + 1; s < start[v + 1] && !boundary; ++s)
+    {
+      boundary = mesh.triangleRegion[star[s]] != mesh.triangleRegion[star[start[v]]];
+    }
+    double d = 0.0;
+    if (!boundary || (rails.closest(mesh.points[v], scratch, &d), d <= tolerance))
+    {
+      continue;
+    }
+    const Vec2 to = rails.position(rails.closest(mesh.points[v], scratch));
+    bool valid = true;
+    for (int s = start[v]; s < start[v + 1] && valid; ++s)
+    {
+      std::array<Vec2, 3> p{};
+      for (int k = 0; k < 3; ++k)
+      {
+        const int w = mesh.triangles[star[s]][k];
+        p[k] = w == static_cast<int>(v) ? to : mesh.points[w];
+      }
+      valid = orient2d(p[0], p[1], p[2]) > 0.0;
+    }
+    if (valid)
+    {
+      mesh.points[v] = to;
+      ++moved;
+    }
+  }
+  return moved;
+}
+
 double ringArea(const Ring& ring)
 {
   double sum = 0.0;
@@ -289,6 +357,18 @@ MesherResult triangulate(const RawPolylines& input,
   // the same two regions.
   if (params.compression.optimize && params.refinement.minimumAngle > 0.0)
   {
+    if (compressed.offCurveBoundaryVertices > 0 &&
+      snapStrayBoundaryVertices(compressed, rails, scratch, 1e-9 * model.size()) ==
+        compressed.offCurveBoundaryVertices)
+    {
+      // The compression's warning counted them; they are all on a curve now.
+      compressed.warnings.erase(
+        std::remove_if(compressed.warnings.begin(),
+          compressed.warnings.end(),
+          [](const std::string& w)
+          { return w.find("could not be placed on a curve") != std::string::npos; }),
+        compressed.warnings.end());
+    }
     RefinementParams rp = params.refinement;
     if (!(rp.minimumEdgeLength > 0.0))
     {
