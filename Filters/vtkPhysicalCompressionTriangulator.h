@@ -11,7 +11,9 @@
  * junction, degenerate triangles get their longest edge flipped, and every triangle is tagged
  * with the region of its barycentre. An optional pass beyond the paper (Optimization) then
  * refines the boundary onto the curves, flips edges, smooths, merges squeezed vertices and
- * splits bad triangles toward larger angles.
+ * splits bad triangles toward larger angles, and ends with a constrained Delaunay refinement
+ * (Ruppert 1995, with Ungor's off-centres) toward MinimumAngle whose new boundary vertices lie
+ * on the input curves.
  *
  * Input: a vtkPolyData of line cells in either StrataMesh form (Loops with `RegionId`, or
  * Shared curves with `LeftRegion`/`RightRegion`).
@@ -23,7 +25,8 @@
  * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
- * `MaxRegionAreaError` (relative), `Iterations`, `BoundarySplits`, `UnresolvedRegions` (ids
+ * `MaxRegionAreaError` (relative), `Iterations`, `BoundarySplits`, `RefinementVertices`
+ * (vertices the Delaunay refinement inserted), `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
  * that) and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the optimization

@@ -6,6 +6,9 @@
 //   grid                Grid48::build + extract(): the adaptive 4-8 mesh (finest level)
 //   classification      classify(): vertices, edges, faces against the regions
 //   compression ...     compress(): set-up, simulation, face classification, optimization
+//   refinement          (with the optimization) boundary vertices left off the curves snapped
+//                       onto them, then refineDelaunay() toward MinimumAngle, boundary edges
+//                       split at the point of their curve nearest their middle
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation, region areas),
