@@ -138,7 +138,6 @@ public:
   void zonesBelow(double angle, std::vector<Zone>& zones) const;
 
 private:
-  int apex(int t, int k) const { return this->M.triangles[t][(k + 2) % 3]; }
   Vec2 X(int v) const { return this->M.points[v]; }
   bool positive(int t) const
   {
