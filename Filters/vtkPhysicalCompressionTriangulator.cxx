@@ -42,6 +42,7 @@ vtkPhysicalCompressionTriangulator::vtkPhysicalCompressionTriangulator()
   this->Optimization = defaults.optimize;
   this->BoundaryTolerance = defaults.boundaryTolerance;
   this->MinimumAngle = strata::RefinementParams().minimumAngle;
+  this->CurveRecovery = strata::MesherParams().curveRecovery;
 }
 
 vtkPhysicalCompressionTriangulator::~vtkPhysicalCompressionTriangulator() = default;
@@ -152,6 +153,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   c.optimize = this->Optimization != 0;
   c.boundaryTolerance = this->BoundaryTolerance;
   params.refinement.minimumAngle = this->MinimumAngle;
+  params.curveRecovery = this->CurveRecovery != 0;
 
   strata::MesherResult result;
   try
@@ -265,4 +267,5 @@ void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "Optimization: " << this->Optimization << "\n";
   os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
+  os << indent << "CurveRecovery: " << this->CurveRecovery << "\n";
 }

@@ -26,7 +26,8 @@
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
  * `MaxRegionAreaError` (relative), `Iterations`, `BoundarySplits`, `RefinementVertices`
- * (vertices the Delaunay refinement inserted), `UnresolvedRegions` (ids
+ * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
+ * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
  * that) and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the optimization
@@ -213,6 +214,22 @@ public:
   vtkGetMacro(MinimumAngle, double);
   ///@}
 
+  ///@{
+  /**
+   * Beyond the paper, with the Delaunay refinement (MinimumAngle > 0): curve recovery first.
+   * Where an input curve runs through a triangle (farther than a tenth of its longest edge
+   * from its sides: a layer or island the compression lost, a boundary cut short), the curve
+   * point nearest the triangle's centroid is inserted and the triangles around it take the
+   * region of their centroid, unless that would put a region boundary through a vertex off
+   * the curves. Region areas, topology and the boundary distance get better; where a
+   * recovered layer is thinner than its triangles, smallest angles get lower (README,
+   * Measured). The field data CurveVertices counts the inserted vertices. Default off.
+   */
+  vtkSetMacro(CurveRecovery, vtkTypeBool);
+  vtkGetMacro(CurveRecovery, vtkTypeBool);
+  vtkBooleanMacro(CurveRecovery, vtkTypeBool);
+  ///@}
+
 protected:
   vtkPhysicalCompressionTriangulator();
   ~vtkPhysicalCompressionTriangulator() override;
@@ -233,7 +250,8 @@ protected:
   vtkTypeBool FlipDegenerate;
   vtkTypeBool Optimization;
   double BoundaryTolerance;
-  double MinimumAngle; // default from strata::RefinementParams
+  double MinimumAngle;       // default from strata::RefinementParams
+  vtkTypeBool CurveRecovery; // default from strata::MesherParams
 
 private:
   vtkPhysicalCompressionTriangulator(const vtkPhysicalCompressionTriangulator&) = delete;

@@ -126,6 +126,9 @@ public:
   /// Neighbours, frozen triangles, then Lawson's flips to constrained Delaunay (counted in
   /// the result's delaunayFlips).
   void prepare();
+  void flipToDelaunay();
+  /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted.
+  std::size_t recoverCurves();
   /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
   void adopt(const Refiner& prepared);
   /// The refinement of a prepared mesh.
@@ -726,36 +729,95 @@ void Refiner::prepare()
     this->poll();
     this->Live[t] = this->positive(static_cast<int>(t));
   }
-  // Constrained Delaunay (Lawson).
+  this->flipToDelaunay();
+}
+
+// Lawson's flips until every unconstrained edge is Delaunay.
+void Refiner::flipToDelaunay()
+{
+  const std::size_t nt = this->M.triangles.size();
+  std::vector<std::array<int, 2>> stack;
+  for (std::size_t t = 0; t < nt; ++t)
   {
-    std::vector<std::array<int, 2>> stack;
-    for (std::size_t t = 0; t < nt; ++t)
+    this->poll();
+    for (int k = 0; k < 3; ++k)
     {
-      this->poll();
-      for (int k = 0; k < 3; ++k)
+      if (static_cast<std::size_t>(this->Nbr[t][k]) > t)
       {
-        if (static_cast<std::size_t>(this->Nbr[t][k]) > t)
-        {
-          stack.push_back({ static_cast<int>(t), k });
-        }
-      }
-    }
-    while (!stack.empty())
-    {
-      this->poll();
-      const auto [t, k] = stack.back();
-      stack.pop_back();
-      const int u = this->Nbr[t][k];
-      if (this->needsFlip(t, k) && this->flip(t, k))
-      {
-        // t = (c, a, d), u = (d, b, c): their outer edges are 0 and 1.
-        stack.push_back({ t, 0 });
-        stack.push_back({ t, 1 });
-        stack.push_back({ u, 0 });
-        stack.push_back({ u, 1 });
+        stack.push_back({ static_cast<int>(t), k });
       }
     }
   }
+  while (!stack.empty())
+  {
+    this->poll();
+    const auto [t, k] = stack.back();
+    stack.pop_back();
+    const int u = this->Nbr[t][k];
+    if (this->needsFlip(t, k) && this->flip(t, k))
+    {
+      // t = (c, a, d), u = (d, b, c): their outer edges are 0 and 1.
+      stack.push_back({ t, 0 });
+      stack.push_back({ t, 1 });
+      stack.push_back({ u, 0 });
+      stack.push_back({ u, 1 });
+    }
+  }
+}
+
+std::size_t Refiner::recoverCurves()
+{
+  if (!this->P.curvePoint || !this->P.regionAt)
+  {
+    return 0;
+  }
+  std::deque<int> queue;
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    queue.push_back(static_cast<int>(t));
+  }
+  std::size_t inserted = 0;
+  std::vector<int> created;
+  while (!queue.empty() && inserted < this->Budget)
+  {
+    this->poll();
+    const int t = queue.front();
+    queue.pop_front();
+    const auto tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    const double shortest = std::sqrt(std::min({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+    Vec2 w;
+    if (!this->Live[t] || shortest < this->P.minimumEdgeLength || !this->P.curvePoint(a, b, c, w) ||
+      !(orient2d(a, b, w) > 0.0 && orient2d(b, c, w) > 0.0 && orient2d(c, a, w) > 0.0))
+    {
+      continue;
+    }
+    this->insertIn(t, w, created);
+    ++inserted;
+    for (int u : created)
+    {
+      const auto& tu = this->M.triangles[u];
+      const int r =
+        this->P.regionAt((1.0 / 3.0) * (this->X(tu[0]) + this->X(tu[1]) + this->X(tu[2])));
+      bool keepsCurves = true; // its new boundary edges join vertices on curves
+      for (int k = 0; k < 3 && keepsCurves && r != this->M.region[u] && this->P.onCurve; ++k)
+      {
+        const int n = this->Nbr[u][k];
+        if ((n >= 0 ? this->M.region[n] : -2) != r)
+        {
+          keepsCurves =
+            this->P.onCurve(this->X(tu[k])) && this->P.onCurve(this->X(tu[(k + 1) % 3]));
+        }
+      }
+      if (keepsCurves)
+      {
+        this->M.region[u] = r;
+      }
+      queue.push_back(u);
+    }
+  }
+  this->flipToDelaunay(); // regions changed: so did the constrained edges
+  return inserted;
 }
 
 void Refiner::adopt(const Refiner& prepared)
@@ -954,6 +1016,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   const std::vector<Zone> none;
   Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
   base.prepare(); // mesh is constrained Delaunay from here on
+  const std::size_t recovered = base.recoverCurves();
   const std::size_t flips = base.flips();
   RegionMesh best = mesh;
   Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
@@ -984,6 +1047,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
   bestResult.delaunayFlips += flips;
+  bestResult.curveVertices = recovered;
   mesh = std::move(best);
   return bestResult;
 }

@@ -29,6 +29,18 @@ struct RefinementParams
   /// At most this many vertices are inserted per triangle of the input mesh (plus 1000).
   /// Range [0, 100].
   double insertionBudget = 1.0;
+  /// Optional curve recovery, before the refinement (both set, or nothing happens): called with
+  /// a triangle's corners (counter-clockwise), curvePoint returns true and a point of a model
+  /// curve strictly inside the triangle where a curve runs through it (a layer the mesh lost
+  /// between two of its region boundaries); that point is inserted and the triangles around
+  /// it take the region regionAt gives at their centroid (a region id, -1 the exterior).
+  /// Triangles whose shortest edge is below minimumEdgeLength are not probed.
+  std::function<bool(Vec2 a, Vec2 b, Vec2 c, Vec2& at)> curvePoint;
+  std::function<int(Vec2 p)> regionAt;
+  /// With the curve recovery: whether a point lies on a model curve. A triangle keeps its
+  /// region when the new one would give it a region boundary edge with an end off the
+  /// curves. Empty: no such check.
+  std::function<bool(Vec2 p)> onCurve;
 };
 
 /// Throws ParameterError naming the parameter and its range.
@@ -63,7 +75,8 @@ struct RefinementResult
   /// insertion can widen).
   std::size_t badTrianglesLeft = 0;
   std::size_t badTrianglesAtCorners = 0;
-  bool budgetReached = false; ///< insertionBudget stopped the refinement
+  bool budgetReached = false;    ///< insertionBudget stopped the refinement
+  std::size_t curveVertices = 0; ///< vertices inserted on curves by the curve recovery
 };
 
 /// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips

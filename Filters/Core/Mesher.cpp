@@ -401,6 +401,34 @@ MesherResult triangulate(const RawPolylines& input,
       at = rails.position(l);
       return true;
     };
+    DistanceField::Scratch fieldScratch;
+    if (params.curveRecovery)
+    {
+      rp.regionAt = [&](Vec2 p) { return field.query(p, fieldScratch).region; };
+      rp.onCurve = [&](Vec2 p)
+      {
+        double d = 0.0;
+        rails.closest(p, scratch, &d);
+        return d <= 1e-9 * model.size();
+      };
+      rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+      {
+        // The curve point nearest the centroid, if it lies inside, a tenth of the longest edge
+        // or more from every side.
+        const Vec2 g = (1.0 / 3.0) * (a + b + c);
+        at = rails.position(rails.closest(g, scratch));
+        const double margin =
+          0.1 * std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+        for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+        {
+          if (!(orient2d(p, q, at) > margin * norm(q - p)))
+          {
+            return false;
+          }
+        }
+        return true;
+      };
+    }
     RegionMesh rm{ std::move(compressed.points),
       std::move(compressed.triangles),
       std::move(compressed.triangleRegion),
@@ -411,6 +439,7 @@ MesherResult triangulate(const RawPolylines& input,
     compressed.triangleRegion = std::move(rm.region);
     compressed.triangleLevel = std::move(rm.level);
     result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices;
+    result.summary.curveVertices = rr.curveVertices;
     if (rr.budgetReached)
     {
       result.warnings.push_back("the Delaunay refinement stopped at its budget of inserted "

@@ -32,6 +32,15 @@ struct MesherParams
   /// grid.minEdgeLength when that is set, else the grid's finest leg (the hypotenuse at
   /// Grid48Params::junctionMaxLevel over sqrt(2)).
   RefinementParams refinement;
+  /// Beyond the paper, with the refinement: curve recovery first (RefinementParams::curvePoint
+  /// and regionAt, from the model's curves and distance field): where an input curve runs
+  /// through a triangle, a point of it is inserted and the triangles around take the region
+  /// of their centroid, which brings back layers and islands the compression lost and pulls
+  /// the boundary onto the curves. Better areas, topology and boundary distance; lower
+  /// smallest angles where the recovered layers are thinner than their triangles, and the
+  /// retagging can leave a boundary vertex off the curves (warned) (README, Measured).
+  /// Default off.
+  bool curveRecovery = false;
 };
 
 /// The triangulation of a model, everything in local coordinates (add `origin`).
@@ -92,6 +101,8 @@ struct MesherResult
     std::size_t boundarySplits = 0;
     /// Vertices inserted by the Delaunay refinement (inside regions and on boundary edges).
     std::size_t refinementVertices = 0;
+    /// Vertices the curve recovery inserted on input curves (MesherParams::curveRecovery).
+    std::size_t curveVertices = 0;
     /// Triangles with a smallest angle below 25 degrees at a model corner sharper than 25
     /// degrees (a region's angle there): the input forces them, they are kept, not mended.
     std::size_t trianglesAtSharpCorners = 0;

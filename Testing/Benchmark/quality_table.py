@@ -2,7 +2,7 @@
 
 Run by hand (not part of ctest), with Debian's Python:
     /usr/bin/python3 Testing/Benchmark/quality_table.py --tool build/bin/triangulate_to_vtu \
-        --meshcheck ../shared/tools/meshcheck.py [--out /tmp/quality]
+        --meshcheck ../shared/tools/meshcheck.py [--out /tmp/quality] [--tool-args "--curve-recovery"]
 For every model it meshes with the default settings (automatic levels) and, for the paper's
 three models, at the MaxLevel whose triangle count is nearest the paper's; then prints a
 Markdown table of what meshcheck.py recomputes from the geometry alone, plus one figure of
@@ -33,10 +33,11 @@ PAPER = {"lake_superior": (9, 1906, 11.5), "salt_dome": (10, 6183, 10.4),
 
 def run(args, name, extra):
     model = os.path.join(DATA, name + ".vtp")
+    options = extra + args.tool_args.split()
     tag = name + ("_L%s" % extra[1] if extra else "")
     vtu = os.path.join(args.out, tag + ".vtu")
     start = time.perf_counter()
-    subprocess.run([args.tool, model, vtu] + extra, check=True, capture_output=True)
+    subprocess.run([args.tool, model, vtu] + options, check=True, capture_output=True)
     seconds = time.perf_counter() - start
     out = subprocess.run(["/usr/bin/python3", args.meshcheck, model, vtu,
                           "--json", os.path.join(args.out, tag + ".json")],
@@ -82,6 +83,8 @@ def main():
     ap.add_argument("--tool", required=True)
     ap.add_argument("--meshcheck", required=True)
     ap.add_argument("--out", default="/tmp/stratamesh_quality")
+    ap.add_argument("--tool-args", default="",
+                    help="extra options for the tool on every run, e.g. \"--curve-recovery\"")
     args = ap.parse_args()
     spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
     args.checker = importlib.util.module_from_spec(spec)

@@ -172,6 +172,66 @@ TEST(DelaunayRefinementTest, AThinStripBetweenTwoLayersReachesTheAngleBound)
   }
 }
 
+// Curve recovery: the model has a layer (region 1) between y = 0 and y = 3 that the mesh lost
+// (it tags everything below y = 3 region 0, as a compression that put its boundary vertices
+// on the layer's upper curve would). Points of the curve y = 0 inserted where it crosses
+// triangles bring the layer back: region 1 gets its area, region 0 loses it, no triangle
+// inverts, and every vertex on a region boundary lies on a curve (y = 0, y = 3 or the border).
+TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
+{
+  RegionMesh m = bands({ -10.0, 3.0, 13.0 }, 100.0, 10.0);
+  for (int& r : m.region)
+  {
+    r = r == 0 ? 0 : 2;
+  }
+  RefinementParams p;
+  const auto onLine = [](double v, double line) { return std::fabs(v - line) <= 1e-9; };
+  p.onCurve = [&](Vec2 q)
+  {
+    return onLine(q.y, 0.0) || onLine(q.y, 3.0) || onLine(q.y, -10.0) || onLine(q.y, 13.0) ||
+      onLine(q.x, 0.0) || onLine(q.x, 100.0);
+  };
+  p.regionAt = [](Vec2 q) { return q.y < 0.0 ? 0 : (q.y < 3.0 ? 1 : 2); };
+  p.curvePoint = [](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+  {
+    const Vec2 g = (1.0 / 3.0) * (a + b + c);
+    const double longest =
+      std::sqrt(std::max({ strata::norm2(b - a), strata::norm2(c - b), strata::norm2(a - c) }));
+    for (double line : { 0.0, 3.0 })
+    {
+      at = { g.x, line };
+      bool inside = true;
+      for (const auto& [u, v] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+      {
+        inside = inside && strata::orient2d(u, v, at) > 0.1 * longest * strata::norm(v - u);
+      }
+      if (inside)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.curveVertices, 0u);
+  const std::map<int, double> a = regionAreas(m);
+  ASSERT_EQ(a.count(1), 1u);
+  EXPECT_NEAR(a.at(1), 300.0, 15.0);
+  EXPECT_NEAR(a.at(0), 1000.0, 15.0);
+  EXPECT_NEAR(a.at(0) + a.at(1) + a.at(2), 2300.0, 1e-9);
+  const auto edges = directedEdges(m);
+  for (const auto& [e, t] : edges)
+  {
+    const auto back = edges.find({ e.second, e.first });
+    if (back == edges.end() || m.region[back->second] != m.region[t])
+    {
+      EXPECT_TRUE(p.onCurve(m.points[e.first]) && p.onCurve(m.points[e.second]))
+        << "boundary edge " << e.first << "-" << e.second << " leaves the curves";
+    }
+  }
+}
+
 // With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
 // the region boundary edges (here the line x = 50 between two regions, and the border) are the
 // same, no edge inside a region has its opposite vertex inside the other circumcircle, and the

@@ -487,6 +487,27 @@ TEST(MesherTest, RefinementRaisesTheSmallestAngleKeepingBoundaryVerticesOnCurves
     strata::ParameterError);
 }
 
+// Curve recovery (off by default) brings back what the compression lost: thin_layer's 1-unit
+// layer (8% of its area kept without) and pinch_out's wedge tip; every boundary vertex stays on
+// a curve; the smallest angle drops, measured floors 10 and 16 degrees (README, Measured).
+TEST(MesherTest, CurveRecoveryKeepsMoreOfThinLayersWithBoundaryVerticesOnCurves)
+{
+  for (const auto& [file, floor] :
+    { std::pair<const char*, double>("thin_layer.vtp", 10.0), { "pinch_out.vtp", 16.0 } })
+  {
+    const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
+    strata::MesherParams on;
+    on.curveRecovery = true;
+    const strata::MesherResult a = strata::triangulate(raw);
+    const strata::MesherResult b = strata::triangulate(raw, on);
+    EXPECT_EQ(a.summary.curveVertices, 0u) << file;
+    EXPECT_GT(b.summary.curveVertices, 0u) << file;
+    EXPECT_LT(b.summary.maxRegionAreaError, 0.5 * a.summary.maxRegionAreaError) << file;
+    EXPECT_LE(b.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size()) << file;
+    EXPECT_GE(b.summary.minAngle, floor) << file;
+  }
+}
+
 // A 10-degree wedge (region 1) from the middle of a 100 x 100 square's left side, between
 // regions 0 (below) and 2 (above), Shared curves form: the wedge ends cleanly where it is
 // thinner than the triangles (its tip goes to its neighbours): no triangle below 25 degrees

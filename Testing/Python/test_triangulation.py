@@ -46,6 +46,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertAlmostEqual(mesh.FeatureAngle, 140.0)
         self.assertAlmostEqual(mesh.BoundaryTolerance, 0.25)
         self.assertAlmostEqual(mesh.MinimumAngle, 30.0)
+        self.assertEqual(mesh.CurveRecovery, 0)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
                      "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
                      "MinimumEdgeLength"):
@@ -134,6 +135,21 @@ class TriangulationTest(unittest.TestCase):
         smallest = min_angles(on).min()
         self.assertGreaterEqual(smallest, 30.0 - 1e-6)
         self.assertGreater(smallest, min_angles(off).min())
+
+    def test_curve_recovery_brings_back_the_thin_layer(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("thin_layer.vtp")])
+        mesh = Triangulation(Input=model)
+        off = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        mesh.CurveRecovery = 1
+        on = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        self.assertEqual(off.FieldData["CurveVertices"][0], 0)
+        self.assertGreater(on.FieldData["CurveVertices"][0], 0)
+        layer = [np.abs(signed_areas(out))[np.asarray(out.CellData["RegionId"]) == 1].sum()
+                 for out in (off, on)]
+        # The layer is 1.0 thick and 1000 long: about 8% of it without, most of it with.
+        self.assertLess(layer[0], 200.0)
+        self.assertGreater(layer[1], 500.0)
+        self.assertTrue((signed_areas(on) > 0).all())
 
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])

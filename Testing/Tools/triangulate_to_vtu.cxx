@@ -9,6 +9,7 @@
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
+//   --curve-recovery
 //   --boundary OUT.vtp (approximated boundary polylines)
 #include "Mesher.h"
 #include "VtpAscii.h"
@@ -209,6 +210,8 @@ int main(int argc, char** argv)
       p.compression.optimizationPasses = std::atoi(next());
     else if (a == "--boundary-tolerance")
       p.compression.boundaryTolerance = std::atof(next());
+    else if (a == "--curve-recovery")
+      p.curveRecovery = true;
     else if (a == "--minimum-angle")
       p.refinement.minimumAngle = std::atof(next());
     else if (a == "--rings")
@@ -233,7 +236,7 @@ int main(int argc, char** argv)
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
-                " \"refinement_vertices\": %zu,\n",
+                " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -247,7 +250,8 @@ int main(int argc, char** argv)
       s.totalSeconds,
       s.boundarySplits,
       s.trianglesAtSharpCorners,
-      s.refinementVertices);
+      s.refinementVertices,
+      s.curveVertices);
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {
