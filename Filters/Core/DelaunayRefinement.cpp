@@ -14,6 +14,14 @@
 //    inside the other triangle's circumcircle is flipped, until none is left. This maximises
 //    the smallest angle over all triangulations with the same vertices and constrained edges,
 //    so it never lowers the minimum angle of the compressed mesh.
+// 2b. Curve recovery (optional: RefinementParams::curvePoint and regionAt). Every triangle at
+//    least minimumEdgeLength short-side through which a model curve runs (curvePoint gives a
+//    curve point strictly inside) gets that point inserted (split in three, flips back to
+//    Delaunay), and the triangles around it take the region at their centroid, unless that
+//    gives one a region boundary edge with an end off the curves (onCurve); the new triangles
+//    are probed in turn, up to the insertion budget; then the flips of 2 once more, since
+//    the constrained edges changed. It brings back layers and islands the compression lost.
+//    Everything below then starts from this mesh.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
@@ -46,8 +54,9 @@
 //      boundary allows it; each run after the first is cautious inside disks (radius twice
 //      the longest edge) around the triangles where the runs before ended below the best
 //      smallest angle so far. The runs stop once one reaches minimumAngle.
-// No step moves an existing vertex, inverts a triangle or changes a triangle's region; the
-// regions' areas change only where a boundary edge is split onto its curve.
+// No step moves an existing vertex or inverts a triangle; outside the curve recovery no
+// triangle changes region, and the regions' areas change only where a boundary edge is split
+// onto its curve.
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
