@@ -33,6 +33,15 @@ def min_angles(mesh):
     return np.min(angles, axis=0)
 
 
+def default_and_changed(file_name, **changes):
+    """The mesh of a Data model with the default properties, then with `changes` applied."""
+    mesh = Triangulation(Input=simple.XMLPolyDataReader(FileName=[st.data(file_name)]))
+    default = dsa.WrapDataObject(servermanager.Fetch(mesh))
+    for name, value in changes.items():
+        setattr(mesh, name, value)
+    return default, dsa.WrapDataObject(servermanager.Fetch(mesh))
+
+
 class TriangulationTest(unittest.TestCase):
     def test_properties_have_the_documented_defaults_and_names(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
@@ -122,11 +131,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(out.GetNumberOfCells(), 0)
 
     def test_minimum_angle_refines_to_the_bound_and_zero_turns_it_off(self):
-        model = simple.XMLPolyDataReader(FileName=[st.data("salt_dome.vtp")])
-        mesh = Triangulation(Input=model)
-        on = dsa.WrapDataObject(servermanager.Fetch(mesh))
-        mesh.MinimumAngle = 0.0
-        off = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        on, off = default_and_changed("salt_dome.vtp", MinimumAngle=0.0)
         self.assertGreater(on.FieldData["RefinementVertices"][0], 0)
         self.assertEqual(off.FieldData["RefinementVertices"][0], 0)
         # Recomputed from the points, not taken from the filter's arrays.
@@ -137,11 +142,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(smallest, min_angles(off).min())
 
     def test_curve_recovery_brings_back_the_thin_layer(self):
-        model = simple.XMLPolyDataReader(FileName=[st.data("thin_layer.vtp")])
-        mesh = Triangulation(Input=model)
-        off = dsa.WrapDataObject(servermanager.Fetch(mesh))
-        mesh.CurveRecovery = 1
-        on = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        off, on = default_and_changed("thin_layer.vtp", CurveRecovery=1)
         self.assertEqual(off.FieldData["CurveVertices"][0], 0)
         self.assertGreater(on.FieldData["CurveVertices"][0], 0)
         layer = [np.abs(signed_areas(out))[np.asarray(out.CellData["RegionId"]) == 1].sum()
