@@ -1,0 +1,329 @@
+// StrataMesh core, internal (not installed): the compressor's state, shared by
+// Compression.cpp (set-up, simulation, faces) and Optimization.cpp (the quality pass after
+// the simulation). No VTK.
+#ifndef StrataMeshCore_Compressor_h
+#define StrataMeshCore_Compressor_h
+
+#include "Compression.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace strata
+{
+namespace detail
+{
+
+constexpr double kCollapse = 0.02;      // restrain: keep at least 2% of the rest area
+constexpr double kLastResort = 0.05;    // snap: then accept 5% of that (0.1% of the rest area)
+constexpr double kSmallArea = 0.1;      // degeneracy check: below 10% of the rest area
+constexpr double kSmallAngle = 10.0;    // degeneracy check: an angle below 10 degrees
+constexpr int kStuckSteps = 20;         // a push blocked this long aims aside
+constexpr int kMaxRetargets = 3;        // times a blocked push aims aside
+constexpr int kMaxWaves = 4;            // push phases after the first one
+constexpr double kSettled = 1e-3;       // relative move below which a step is quiet
+constexpr int kSettledSteps = 10;       // quiet steps that end the simulation
+constexpr int kWakeInterval = 10;       // steps between two updates of the awake particles
+constexpr double kSleep = 3e-2;         // relative move in kWakeInterval steps that keeps awake
+constexpr double kQuietFraction = 5e-3; // fewer moving vertices than this fraction: stop
+constexpr double kGoodAngle = 30.0;     // optimization leaves stars and pairs above this alone
+constexpr double kPoorAngle = 20.0;     // smoothing below this may leave the boundary tolerance
+constexpr int kOnCurve = -2;            // vertex region of a vertex on a curve
+
+using Clock = std::chrono::steady_clock;
+inline double secondsSince(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Sine of the smallest angle of abc (monotone in the angle, which is at most 60 degrees):
+// twice the area over the product of the two longer edges.
+inline double minAngleSine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const double l0 = norm2(b - a), l1 = norm2(c - b), l2 = norm2(a - c);
+  const double shortest = std::min({ l0, l1, l2 });
+  const double product = l0 * l1 * l2 / (shortest > 0.0 ? shortest : 1.0);
+  return shortest > 0.0 ? std::fabs(orient2d(a, b, c)) / std::sqrt(product) : 0.0;
+}
+
+// Cosine of the largest angle of abc (decreasing in the angle).
+inline double largestAngleCosine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const auto cosAt = [](Vec2 p, Vec2 q, Vec2 r)
+  {
+    const Vec2 u = q - p, v = r - p;
+    const double n = norm(u) * norm(v);
+    return n > 0.0 ? dot(u, v) / n : 1.0;
+  };
+  return std::min({ cosAt(a, b, c), cosAt(b, c, a), cosAt(c, a, b) });
+}
+
+// Vertex states during the simulation.
+enum State : std::uint8_t
+{
+  Halo,    // fixed: in the sub-mesh only as a neighbour of simulated vertices
+  Free,    // simulated particle
+  Pushing, // driven toward its target
+  Rail,    // on a curve
+  Pinned   // on a junction or feature point
+};
+
+// The simulated sub-mesh and everything done to it.
+class Compressor
+{
+public:
+  Compressor(const TriangleMesh& grid,
+    const Classification& cls,
+    const Model& model,
+    const DistanceField& field,
+    const CompressionParams& params,
+    const ProgressReporter& progress,
+    CompressionResult& result)
+    : Grid(grid)
+    , Cls(cls)
+    , TheModel(model)
+    , Field(field)
+    , Params(params)
+    , Progress(progress)
+    , Result(result)
+    , Rails(model, params.featureAngle)
+  {
+    this->TheGuard.Self = this;
+  }
+
+  void run();
+
+private:
+  using Location = BoundaryRails::Location;
+
+  // Progress (and abort) inside long loops: every 4096 items, at the current fraction.
+  void poll(std::size_t i) const
+  {
+    if ((i & 4095) == 0)
+    {
+      this->Progress.report(this->At, this->Stage);
+    }
+  }
+  double At = 0.0;
+  const char* Stage = "compressing the grid";
+
+  // --- set-up
+  void buildGlobalStars();
+  bool isBorderVertex(int g) const;
+  double gridDistance(int g);
+  void choosePushes();
+  void placeJunctions();
+  void buildSubMesh();
+  void rebuildStars();
+  void claimStopPoints();
+  void spreadTargets();
+  bool nearClaimedStop(const Location& l, double reach) const;
+  void startPush(int i, const Location& target);
+  void setBudget(int i);
+  void retarget(int i);
+  bool junctionBound(int i) const { return this->JunctionTarget[this->Global[i]] >= 0; }
+  // --- simulation
+  void simulate();
+  void pushStep(int i, double dt);
+  void railStep(int i, double dt);
+  std::size_t pushNewCrossings();
+  std::size_t refreshAwake(std::vector<Vec2>& windowStart);
+  double lowerDistance(int i) const
+  {
+    const int g = this->Global[i];
+    const double d = this->Distance[g];
+    return std::isnan(d) ? 0.0 : d - norm(this->Sys->positions()[i] - this->Grid.points[g]);
+  }
+  std::size_t flipDegenerate();
+  std::size_t unblockPushes();
+  // --- faces and optimization
+  int regionAt(Vec2 p) { return this->Field.query(p, this->FieldScratch).region; }
+  int vertexRegion(int i);
+  int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
+  int faceTag(int t);
+  void classifyFaces();
+  int neighbourTag(int t, int k) const
+  {
+    const int u = this->Nbr[t][k];
+    return u >= 0 ? this->Tag[u] : (u == -1 ? -1 : this->Result.triangleRegion[-2 - u]);
+  }
+  std::vector<int> offCurveBoundaryVertices() const;
+  bool placeOnCurve(int i, const Location& target, double minFraction);
+  std::size_t snapBoundaryVertices();
+  std::size_t optimizeFlips();
+  std::size_t smooth();
+  double starMinAngle(int i, Vec2 p) const;
+  // boundary refinement
+  struct ChainPiece
+  {
+    int chain = -1;
+    double from = 0.0, to = 0.0; // chain parameters (segment + t) of the two ends
+    bool forward = true;         // walk direction from `from` to `to`
+    double deviation = -1.0;     // largest distance of a chain point between them to the edge
+    int farthest = -1;           // that chain point
+  };
+  std::vector<Location> locationsOf(int i) const;
+  ChainPiece boundaryPiece(int t, int k) const;
+  Location pieceMiddle(const ChainPiece& piece) const;
+  // The two faces across edge k of face t: t = (a, b, c) and u = Nbr[t][k] = (b, a, d), the
+  // edge being edge j of u (u >= 0).
+  struct Quad
+  {
+    int u, j, a, b, c, d;
+  };
+  Quad quadOf(int t, int k) const
+  {
+    Quad q;
+    q.u = this->Nbr[t][k];
+    q.a = this->Tri[t][k];
+    q.b = this->Tri[t][(k + 1) % 3];
+    q.c = this->Tri[t][(k + 2) % 3];
+    q.j = this->Tri[q.u][0] == q.b ? 0 : (this->Tri[q.u][1] == q.b ? 1 : 2);
+    q.d = this->Tri[q.u][(q.j + 2) % 3];
+    return q;
+  }
+  // The four faces made by splitting that edge at w: (a, w, c), (w, b, c), (b, w, d), (w, a, d).
+  std::array<std::array<Vec2, 3>, 4> splitFaces(const Quad& q, Vec2 w) const
+  {
+    const std::vector<Vec2>& x = this->Sys->positions();
+    return {
+      { { x[q.a], w, x[q.c] }, { w, x[q.b], x[q.c] }, { x[q.b], w, x[q.d] }, { w, x[q.a], x[q.d] } }
+    };
+  }
+  bool canSplit(int t, int k, Vec2 w) const;
+  bool splitBoundaryEdge(int t, int k, const Location& at, bool pin);
+  void splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region);
+  void detach();
+  std::size_t refineAngles();
+  bool collapseInto(int i, int v);
+  bool insidePiece(const ChainPiece& piece, const Location& l) const;
+  std::size_t collapseSqueezed();
+  void collectBad();
+  bool pullIntoBulge(int t, int k, const Location& far);
+  Location farthestLocation(const ChainPiece& piece) const;
+  bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
+  // Calls act(t, k, piece) for every boundary edge out of tolerance among the faces present
+  // at the call (each edge once); act returns true when it changed face t, whose other edges
+  // are then skipped. Returns how many calls returned true.
+  template<typename Act>
+  std::size_t forEachDeviatingEdge(Act&& act)
+  {
+    std::size_t changed = 0;
+    const int nt = static_cast<int>(this->Tri.size());
+    ChainPiece piece;
+    for (int t = 0; t < nt; ++t)
+    {
+      this->poll(static_cast<std::size_t>(t));
+      for (int k = 0; k < 3; ++k)
+      {
+        if (this->deviatingEdge(t, k, nt, piece) && act(t, k, piece))
+        {
+          ++changed;
+          break;
+        }
+      }
+    }
+    return changed;
+  }
+  bool followsCurves(int i, Vec2 p, const Location& l);
+  std::size_t refineBoundary();
+  bool active(int i) const { return i < this->NumActive || i >= this->FirstAdded; }
+  // --- shared
+  bool flipValid(int t, int k) const;
+  bool tryFlip(int t, int k, bool degenerate);
+  void flip(int t, int k);
+  void retagStar(int i);
+  bool accepts(int i, Vec2 to) const
+  {
+    const int s0 = this->StarStart[i];
+    return restrainAccepts(this->Sys->positions(),
+      this->Tri,
+      this->StarItems.data() + s0,
+      this->StarStart[i + 1] - s0,
+      i,
+      to,
+      this->MinTwice.data());
+  }
+  double twiceArea(int t) const
+  {
+    const std::vector<Vec2>& x = this->Sys->positions();
+    return orient2d(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
+  }
+  bool onCurve(int i) const { return this->St[i] == Rail || this->St[i] == Pinned; }
+  double triMinAngleSine(int t) const
+  {
+    const std::vector<Vec2>& x = this->Sys->positions();
+    return minAngleSine(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
+  }
+  void writeBack();
+
+  struct Guard : MoveGuard
+  {
+    const Compressor* Self = nullptr;
+    bool accept(int i, Vec2, Vec2 to) override { return this->Self->accepts(i, to); }
+  };
+
+  const TriangleMesh& Grid;
+  const Classification& Cls;
+  const Model& TheModel;
+  const DistanceField& Field;
+  const CompressionParams& Params;
+  const ProgressReporter& Progress;
+  CompressionResult& Result;
+  BoundaryRails Rails;
+  StripTreeScratch RailScratch;
+  DistanceField::Scratch FieldScratch;
+  Guard TheGuard;
+
+  // Global mesh (grid ids).
+  std::vector<Vec2> Points; // positions before the simulation (junctions snapped)
+  std::vector<int> GStarStart, GStarItems;
+  std::vector<std::uint8_t> Candidate, Push;
+  std::vector<double> Distance;    // boundary distance (NaN: not computed)
+  std::vector<int> JunctionOf;     // junction node a vertex was placed on, or -1
+  std::vector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
+
+  // Sub-mesh (local ids).
+  std::vector<int> Global;  // local vertex -> grid vertex
+  std::vector<int> LocalOf; // grid vertex -> local vertex, -1
+  int NumActive = 0;        // local ids below are simulated
+  std::vector<std::array<int, 3>> Tri, Nbr, TriEdge;
+  std::vector<int> TriGlobal, Level, Tag;
+  std::vector<double> RestTwice, MinTwice;
+  std::vector<int> StarStart, StarItems;
+  std::unique_ptr<SpringSystem> Sys;
+
+  // Per local vertex.
+  std::vector<std::uint8_t> St;
+  std::vector<Vec2> Target;
+  std::vector<Location> Loc;         // push target, then position on the rail
+  std::vector<Location> FirstTarget; // closest point when the push started
+  std::vector<std::uint8_t> PinOnArrival;
+  std::vector<int> Stuck, Retargets, PushSteps, Budget;
+  std::vector<int> VRegion;          // region of vertices off the curves, kOnCurve for the others
+  std::vector<std::uint8_t> Claimed; // per model node: a vertex is (going) there
+  std::vector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push
+  std::vector<Vec2> Candidates;             // smoothing scratch
+  // After the simulation (optimization): local edge length per vertex, and the first local id
+  // of the vertices inserted by the boundary refinement (they are simulated ones too).
+  std::vector<double> H;
+  std::vector<int> StuckVertices; // pushes that never arrived (free during the optimization)
+  // Faces with an angle below kGoodAngle at the start of an optimization round, and their
+  // corners (ascending): the rounds only look at these.
+  std::vector<int> BadFaces, BadVertices;
+  int FirstAdded = std::numeric_limits<int>::max();
+  bool Detached = false; // springs no longer follow the mesh (no more simulation)
+};
+
+} // namespace detail
+} // namespace strata
+
+#endif
