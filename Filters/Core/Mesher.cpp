@@ -37,6 +37,9 @@ using Clock = std::chrono::steady_clock;
 // A region whose triangles cover less than this share of its model area is reported as
 // unresolved (too thin or too small for the finest triangles).
 constexpr double kUnresolvedFraction = 0.5;
+// A region kept but whose triangles' area differs from its model area by more than this
+// share is named in a warning (a layer partly lost, or widened past its curves).
+constexpr double kAreaWarning = 0.1;
 
 // Triangles whose smallest angle (below kSharpCorner degrees) sits on a model node where a
 // region's own angle is below kSharpCorner: the input forces them (a vertex is placed exactly
@@ -650,13 +653,20 @@ MesherResult triangulate(const RawPolylines& input,
       result.regionAreas[index].mesh += result.area[t];
     }
   }
-  std::string unresolved;
+  std::string unresolved, offArea;
   for (const MesherResult::RegionArea& ra : result.regionAreas)
   {
     if (ra.model > 0.0)
     {
+      const double error = (ra.mesh - ra.model) / ra.model;
       result.summary.maxRegionAreaError =
-        std::max(result.summary.maxRegionAreaError, std::fabs(ra.mesh - ra.model) / ra.model);
+        std::max(result.summary.maxRegionAreaError, std::fabs(error));
+      if (ra.mesh >= kUnresolvedFraction * ra.model && std::fabs(error) > kAreaWarning)
+      {
+        offArea += (offArea.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
+          (error > 0.0 ? "+" : "") + std::to_string(static_cast<int>(std::lround(100.0 * error))) +
+          "%)";
+      }
       if (ra.mesh < kUnresolvedFraction * ra.model)
       {
         result.unresolvedRegions.push_back(ra.id);
@@ -664,6 +674,13 @@ MesherResult triangulate(const RawPolylines& input,
           std::to_string(static_cast<int>(std::lround(100.0 * ra.mesh / ra.model))) + "%)";
       }
     }
+  }
+  if (!offArea.empty())
+  {
+    result.warnings.push_back("the triangles of these regions cover an area more than 10% off "
+                              "their model area (region id and difference): " +
+      offArea +
+      "; a finer LocalMaxLevel or MinimumEdgeLength, or CurveRecovery, brings them closer");
   }
   if (!unresolved.empty())
   {

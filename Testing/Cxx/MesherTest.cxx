@@ -508,6 +508,28 @@ TEST(MesherTest, CurveRecoveryKeepsMoreOfThinLayersWithBoundaryVerticesOnCurves)
   }
 }
 
+// A region kept (half of its area or more) whose triangles' area is more than 10% off its
+// model area is named in a warning with the difference: the countries' Liechtenstein (7) and
+// Monaco (8); none on the salt dome.
+TEST(MesherTest, RegionAreasMoreThanTenPercentOffAreWarned)
+{
+  const auto warnings = [](const char* file)
+  {
+    std::string all;
+    for (const std::string& w :
+      strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath(file))).warnings)
+    {
+      all += w + "\n";
+    }
+    return all;
+  };
+  const std::string countries = warnings("countries_westeurope.vtp");
+  EXPECT_NE(countries.find("more than 10% off"), std::string::npos) << countries;
+  EXPECT_NE(countries.find("7 (-"), std::string::npos) << countries;
+  EXPECT_NE(countries.find("8 (-"), std::string::npos) << countries;
+  EXPECT_EQ(warnings("salt_dome.vtp").find("more than 10% off"), std::string::npos);
+}
+
 // A 10-degree wedge (region 1) from the middle of a 100 x 100 square's left side, between
 // regions 0 (below) and 2 (above), Shared curves form: the wedge ends cleanly where it is
 // thinner than the triangles (its tip goes to its neighbours): no triangle below 25 degrees
