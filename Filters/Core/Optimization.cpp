@@ -352,8 +352,9 @@ std::size_t Compressor::smooth()
   static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
   std::vector<Vec2>& x = this->Sys->positions();
-  for (const int i : this->BadVertices)
+  for (const int& i : this->BadVertices)
   {
+    this->poll(static_cast<std::size_t>(&i - this->BadVertices.data()));
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (!this->active(i))
     {
@@ -1224,8 +1225,9 @@ std::size_t Compressor::collapseSqueezed()
   const std::vector<Vec2>& x = this->Sys->positions();
   std::vector<std::uint8_t> touched(this->Global.size(), 0);
   std::size_t collapsed = 0;
-  for (const int i : this->BadVertices)
+  for (const int& i : this->BadVertices)
   {
+    this->poll(static_cast<std::size_t>(&i - this->BadVertices.data()));
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (touched[i] || !this->active(i) || !(this->St[i] == Free || this->St[i] == Rail) ||
       s0 == s1 || this->starMinAngle(i, x[i]) >= goodSine)
