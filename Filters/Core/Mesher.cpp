@@ -159,6 +159,106 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   return moved;
 }
 
+// The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
+// boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
+// split at the point of their curve nearest their middle, on the chain that separates the
+// same two regions (and, with curveRecovery, the curve recovery's callbacks).
+void refineCompressed(CompressionResult& compressed,
+  const Model& model,
+  const DistanceField& field,
+  const Grid48& grid,
+  const BoundaryRails& rails,
+  const MesherParams& params,
+  const ProgressReporter& progress,
+  MesherResult& result)
+{
+  StripTreeScratch scratch;
+  if (compressed.offCurveBoundaryVertices > 0 &&
+    snapStrayBoundaryVertices(compressed, rails, scratch, 1e-9 * model.size()) ==
+      compressed.offCurveBoundaryVertices)
+  {
+    // The compression's warning counted them; they are all on a curve now.
+    compressed.warnings.erase(
+      std::remove_if(compressed.warnings.begin(),
+        compressed.warnings.end(),
+        [](const std::string& w)
+        { return w.find("could not be placed on a curve") != std::string::npos; }),
+      compressed.warnings.end());
+  }
+  RefinementParams rp = params.refinement;
+  if (!(rp.minimumEdgeLength > 0.0))
+  {
+    // The user's MinimumEdgeLength, else the grid's finest leg: the refinement goes no
+    // finer than the grid could.
+    rp.minimumEdgeLength = grid.params().minEdgeLength > 0.0
+      ? grid.params().minEdgeLength
+      : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
+  }
+  const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
+  {
+    double d = 0.0;
+    const BoundaryRails::Location l = rails.closest(0.5 * (a + b), scratch, &d);
+    if (l.chain < 0)
+    {
+      return false;
+    }
+    const BoundaryRails::Chain& c = rails.chain(l.chain);
+    const bool ends = !c.closed &&
+      ((l.segment == 0 && l.t == 0.0) ||
+        (l.segment + 1 == static_cast<int>(c.numberOfSegments()) && l.t == 1.0));
+    if (ends || d > 0.5 * norm(b - a) ||
+      !((c.left == left && c.right == right) || (c.left == right && c.right == left)))
+    {
+      return false; // a junction (it has its vertex), or not this edge's curve
+    }
+    at = rails.position(l);
+    return true;
+  };
+  DistanceField::Scratch fieldScratch;
+  if (params.curveRecovery)
+  {
+    rp.regionAt = [&](Vec2 p) { return field.query(p, fieldScratch).region; };
+    rp.onCurve = [&](Vec2 p)
+    {
+      double d = 0.0;
+      rails.closest(p, scratch, &d);
+      return d <= 1e-9 * model.size();
+    };
+    rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+    {
+      // The curve point nearest the centroid, if it lies inside, a tenth of the longest edge
+      // or more from every side.
+      const Vec2 g = (1.0 / 3.0) * (a + b + c);
+      at = rails.position(rails.closest(g, scratch));
+      const double margin = 0.1 * std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+      for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+      {
+        if (!(orient2d(p, q, at) > margin * norm(q - p)))
+        {
+          return false;
+        }
+      }
+      return true;
+    };
+  }
+  RegionMesh rm{ std::move(compressed.points),
+    std::move(compressed.triangles),
+    std::move(compressed.triangleRegion),
+    std::move(compressed.triangleLevel) };
+  const RefinementResult rr = refineDelaunay(rm, splitter, rp, progress);
+  compressed.points = std::move(rm.points);
+  compressed.triangles = std::move(rm.triangles);
+  compressed.triangleRegion = std::move(rm.region);
+  compressed.triangleLevel = std::move(rm.level);
+  result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices;
+  result.summary.curveVertices = rr.curveVertices;
+  if (rr.budgetReached)
+  {
+    result.warnings.push_back("the Delaunay refinement stopped at its budget of inserted "
+                              "vertices; some triangles stay below MinimumAngle");
+  }
+}
+
 double ringArea(const Ring& ring)
 {
   double sum = 0.0;
@@ -358,96 +458,10 @@ MesherResult triangulate(const RawPolylines& input,
   const BoundaryRails rails(model, 0.0);
   StripTreeScratch scratch;
 
-  // Delaunay refinement toward the minimum angle (part of the optimization): boundary edges
-  // are split at the point of their curve nearest their middle, on the chain that separates
-  // the same two regions.
   if (params.compression.optimize && params.refinement.minimumAngle > 0.0)
   {
-    if (compressed.offCurveBoundaryVertices > 0 &&
-      snapStrayBoundaryVertices(compressed, rails, scratch, 1e-9 * model.size()) ==
-        compressed.offCurveBoundaryVertices)
-    {
-      // The compression's warning counted them; they are all on a curve now.
-      compressed.warnings.erase(
-        std::remove_if(compressed.warnings.begin(),
-          compressed.warnings.end(),
-          [](const std::string& w)
-          { return w.find("could not be placed on a curve") != std::string::npos; }),
-        compressed.warnings.end());
-    }
-    RefinementParams rp = params.refinement;
-    if (!(rp.minimumEdgeLength > 0.0))
-    {
-      // The user's MinimumEdgeLength, else the grid's finest leg: the refinement goes no
-      // finer than the grid could.
-      rp.minimumEdgeLength = grid.params().minEdgeLength > 0.0
-        ? grid.params().minEdgeLength
-        : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
-    }
-    const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
-    {
-      double d = 0.0;
-      const BoundaryRails::Location l = rails.closest(0.5 * (a + b), scratch, &d);
-      if (l.chain < 0)
-      {
-        return false;
-      }
-      const BoundaryRails::Chain& c = rails.chain(l.chain);
-      const bool ends = !c.closed &&
-        ((l.segment == 0 && l.t == 0.0) ||
-          (l.segment + 1 == static_cast<int>(c.numberOfSegments()) && l.t == 1.0));
-      if (ends || d > 0.5 * norm(b - a) ||
-        !((c.left == left && c.right == right) || (c.left == right && c.right == left)))
-      {
-        return false; // a junction (it has its vertex), or not this edge's curve
-      }
-      at = rails.position(l);
-      return true;
-    };
-    DistanceField::Scratch fieldScratch;
-    if (params.curveRecovery)
-    {
-      rp.regionAt = [&](Vec2 p) { return field.query(p, fieldScratch).region; };
-      rp.onCurve = [&](Vec2 p)
-      {
-        double d = 0.0;
-        rails.closest(p, scratch, &d);
-        return d <= 1e-9 * model.size();
-      };
-      rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
-      {
-        // The curve point nearest the centroid, if it lies inside, a tenth of the longest edge
-        // or more from every side.
-        const Vec2 g = (1.0 / 3.0) * (a + b + c);
-        at = rails.position(rails.closest(g, scratch));
-        const double margin =
-          0.1 * std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-        for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
-        {
-          if (!(orient2d(p, q, at) > margin * norm(q - p)))
-          {
-            return false;
-          }
-        }
-        return true;
-      };
-    }
-    RegionMesh rm{ std::move(compressed.points),
-      std::move(compressed.triangles),
-      std::move(compressed.triangleRegion),
-      std::move(compressed.triangleLevel) };
-    const RefinementResult rr = refineDelaunay(rm, splitter, rp, progress.sub(0.9, 0.95));
-    compressed.points = std::move(rm.points);
-    compressed.triangles = std::move(rm.triangles);
-    compressed.triangleRegion = std::move(rm.region);
-    compressed.triangleLevel = std::move(rm.level);
-    result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices;
-    result.summary.curveVertices = rr.curveVertices;
-    if (rr.budgetReached)
-    {
-      result.warnings.push_back("the Delaunay refinement stopped at its budget of inserted "
-                                "vertices; some triangles stay below MinimumAngle");
-    }
+    refineCompressed(
+      compressed, model, field, grid, rails, params, progress.sub(0.9, 0.95), result);
     const Clock::time_point now = Clock::now();
     result.summary.secondsPerStage.push_back(
       { "refinement", std::chrono::duration<double>(now - t0).count() });
