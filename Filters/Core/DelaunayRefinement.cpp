@@ -416,29 +416,8 @@ void Refiner::legalize(int p, std::vector<int>& around)
 
 bool Refiner::bad(int t) const
 {
-  if (this->M.region[t] < 0 || !this->Live[t])
-  {
-    return false;
-  }
-  const auto& tri = this->M.triangles[t];
-  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-  const double la = norm2(c - b), lb = norm2(a - c), lc = norm2(b - a);
-  // The smallest angle is opposite the shortest edge.
-  double s = la, p = lb, q = lc;
-  if (lb < s)
-  {
-    s = lb;
-    p = la;
-    q = lc;
-  }
-  if (lc < s)
-  {
-    s = lc;
-    p = la;
-    q = lb;
-  }
-  const double cosine = (p + q - s) / (2.0 * std::sqrt(p * q));
-  return cosine > this->CosBad;
+  return this->M.region[t] >= 0 && this->Live[t] &&
+    this->smallestAngleCosine(this->M.triangles[t]) > this->CosBad;
 }
 
 // Corner (0..2) of the smallest angle: opposite the shortest edge.
@@ -535,12 +514,20 @@ void Refiner::insertIn(int t, Vec2 w, std::vector<int>& created)
   this->legalize(wi, created);
 }
 
+// Cosine of the smallest angle of tri: the angle opposite the shortest edge (law of cosines
+// on the squared edge lengths).
 double Refiner::smallestAngleCosine(const std::array<int, 3>& tri) const
 {
   const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-  const double la = norm2(c - b), lb = norm2(a - c), lc = norm2(b - a);
-  const double s = std::min({ la, lb, lc });
-  const double p = s == la ? lb : la, q = s == lc ? lb : lc;
+  double s = norm2(c - b), p = norm2(a - c), q = norm2(b - a);
+  if (p < s)
+  {
+    std::swap(s, p);
+  }
+  if (q < s)
+  {
+    std::swap(s, q);
+  }
   return (p + q - s) / (2.0 * std::sqrt(p * q));
 }
 
