@@ -259,29 +259,10 @@ private:
 
 void Refiner::buildNeighbours()
 {
-  const std::size_t np = this->M.points.size(), nt = this->M.triangles.size();
-  std::vector<int> start(np + 1, 0), items(3 * nt);
-  for (const auto& tri : this->M.triangles)
-  {
-    for (int v : tri)
-    {
-      ++start[v + 1];
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    start[i + 1] += start[i];
-  }
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t)
-    {
-      for (int v : this->M.triangles[t])
-      {
-        items[fill[v]++] = static_cast<int>(t);
-      }
-    }
-  }
+  const std::size_t nt = this->M.triangles.size();
+  const PointStars stars = pointStars(this->M.points.size(), this->M.triangles);
+  const std::vector<int>& start = stars.start;
+  const std::vector<int>& items = stars.items;
   this->Nbr.assign(nt, { -1, -1, -1 });
   for (std::size_t t = 0; t < nt; ++t)
   {
@@ -962,6 +943,33 @@ void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
   }
 }
 } // namespace
+
+PointStars pointStars(std::size_t numberOfPoints, const std::vector<std::array<int, 3>>& triangles)
+{
+  PointStars stars;
+  stars.start.assign(numberOfPoints + 1, 0);
+  for (const auto& tri : triangles)
+  {
+    for (int v : tri)
+    {
+      ++stars.start[v + 1];
+    }
+  }
+  for (std::size_t i = 0; i < numberOfPoints; ++i)
+  {
+    stars.start[i + 1] += stars.start[i];
+  }
+  stars.items.resize(stars.start.back());
+  std::vector<int> fill(stars.start.begin(), stars.start.end() - 1);
+  for (std::size_t t = 0; t < triangles.size(); ++t)
+  {
+    for (int v : triangles[t])
+    {
+      stars.items[fill[v]++] = static_cast<int>(t);
+    }
+  }
+  return stars;
+}
 
 void validate(const RefinementParams& p)
 {

@@ -79,6 +79,16 @@ struct RefinementResult
   std::size_t curveVertices = 0; ///< vertices inserted on curves by the curve recovery
 };
 
+/// The triangles around each point of a triangle list: those around point v are
+/// items[start[v]] .. items[start[v + 1] - 1], in increasing order. Point ids must lie in
+/// [0, numberOfPoints).
+struct PointStars
+{
+  std::vector<int> start; ///< numberOfPoints + 1 offsets
+  std::vector<int> items; ///< triangle ids
+};
+PointStars pointStars(std::size_t numberOfPoints, const std::vector<std::array<int, 3>>& triangles);
+
 /// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips
 /// the mesh to constrained Delaunay, then inserts the off-centre of every bad triangle, or,
 /// when that point would encroach a region boundary edge (lie inside its diametral circle or

@@ -101,30 +101,10 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   StripTreeScratch& scratch,
   double tolerance)
 {
-  const std::size_t np = mesh.points.size(), nt = mesh.triangles.size();
-  std::vector<int> start(np + 1, 0);
-  for (const auto& tri : mesh.triangles)
-  {
-    for (int v : tri)
-    {
-      ++start[v + 1];
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    start[i + 1] += start[i];
-  }
-  std::vector<int> star(start.back());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < nt; ++t)
-    {
-      for (int v : mesh.triangles[t])
-      {
-        star[fill[v]++] = static_cast<int>(t);
-      }
-    }
-  }
+  const std::size_t np = mesh.points.size();
+  const PointStars stars = pointStars(np, mesh.triangles);
+  const std::vector<int>& start = stars.start;
+  const std::vector<int>& star = stars.items;
   std::size_t moved = 0;
   for (std::size_t v = 0; v < np; ++v)
   {
