@@ -124,7 +124,6 @@ public:
     const double theta = params.minimumAngle * kPi / 180.0;
     this->CosBad = std::cos(theta);
     this->CosFloor = std::cos(floorFraction * theta);
-    this->CosCautious = std::cos(theta);
     // Off-centre apex angle: 10% above the bound, so the new triangle is not bad itself.
     this->OffDistance = 0.5 / std::tan(0.5 * std::min(1.1 * theta, kPi / 3.0));
     this->Budget = static_cast<std::size_t>(
@@ -250,8 +249,7 @@ private:
   int Tx = 0;
   bool Recording = false;
   std::size_t Tri0 = 0, Points0 = 0, Flips0 = 0;
-  double CosFloor = 1.0;    // an insertion may not leave an angle below min(this, the old smallest)
-  double CosCautious = 1.0; // the same inside the cautious zones
+  double CosFloor = 1.0; // an insertion may not leave an angle below min(this, the old smallest)
   const std::vector<Zone>& Cautious;
   std::vector<int> Changed;
   RefinementResult R;
@@ -546,7 +544,7 @@ bool Refiner::commit()
   const Vec2 w = this->M.points.back(); // the vertex this transaction inserted
   for (const Zone& z : this->Cautious)
   {
-    floor = norm2(w - z.center) < z.radius2 ? this->CosCautious : floor;
+    floor = norm2(w - z.center) < z.radius2 ? this->CosBad : floor; // cautious: the bound
   }
   if (after <= std::max(std::min(before, 1.0), floor) + 1e-12)
   {
