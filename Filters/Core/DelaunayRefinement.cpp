@@ -687,10 +687,6 @@ void Refiner::queueBad(const std::vector<int>& tris)
       this->Queue.push_back(t);
     }
   }
-  if (this->Mark.size() < this->M.triangles.size())
-  {
-    this->Mark.resize(this->M.triangles.size(), 0);
-  }
 }
 
 void Refiner::prepare()
@@ -816,7 +812,6 @@ RefinementResult Refiner::run()
       }
     }
   }
-  this->Mark.assign(this->M.triangles.size(), 0);
   std::vector<int> created;
   while (!this->Queue.empty())
   {
