@@ -747,9 +747,9 @@ std::size_t Refiner::recoverCurves()
   {
     queue.push_back(static_cast<int>(t));
   }
-  std::size_t inserted = 0;
+  const std::size_t before = this->Inserted;
   std::vector<int> created;
-  while (!queue.empty() && inserted < this->Budget)
+  while (!queue.empty() && this->Inserted < this->Budget)
   {
     this->poll();
     const int t = queue.front();
@@ -764,7 +764,7 @@ std::size_t Refiner::recoverCurves()
       continue;
     }
     this->insertIn(t, w, created);
-    ++inserted;
+    ++this->Inserted; // (also what poll() reports)
     for (int u : created)
     {
       const auto& tu = this->M.triangles[u];
@@ -788,7 +788,7 @@ std::size_t Refiner::recoverCurves()
     }
   }
   this->flipToDelaunay(); // regions changed: so did the constrained edges
-  return inserted;
+  return this->Inserted - before;
 }
 
 void Refiner::adopt(const Refiner& prepared)
