@@ -21,7 +21,17 @@
 //    gives one a region boundary edge with an end off the curves (onCurve); the new triangles
 //    are probed in turn, up to the insertion budget; then the flips of 2 once more, since
 //    the constrained edges changed. It brings back layers and islands the compression lost.
-//    Everything below then starts from this mesh.
+//    Before the probes, every triangle within its longest edge of a curve (curveDistance)
+//    takes the region at its centroid under the same rule (the paper's barycentre
+//    classification, on the compressed mesh). Everything below then starts from this mesh.
+// 2c. Sharp corners (with the curve recovery). A recovered layer ends where it gets thinner
+//    than the triangles, often in a spike: a triangle whose smallest angle lies between two
+//    region boundary edges. A region triangle with such a corner below minimumAngle, no longer
+//    than 16 minimumEdgeLength, takes the region of the triangle across one of its boundary
+//    edges (not the mesh's outer border) when that raises the smallest such corner angle of
+//    it and its neighbours (new boundary edges must join vertices on curves; no region loses
+//    its last triangle). The layer then ends where it is about as thick as its triangles,
+//    cleanly.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
@@ -54,9 +64,24 @@
 //      boundary allows it; each run after the first is cautious inside disks (radius twice
 //      the longest edge) around the triangles where the runs before ended below the best
 //      smallest angle so far. The runs stop once one reaches minimumAngle.
-// No step moves an existing vertex or inverts a triangle; outside the curve recovery no
-// triangle changes region, and the regions' areas change only where a boundary edge is split
-// onto its curve.
+//    The run kept is the one with the largest smallest angle, and of equal ones the one with
+//    the fewest triangles below minimumAngle (the smallest angle is often one corner no run
+//    can mend, while the bold runs mend hundreds of triangles elsewhere).
+// 5. Smoothing. The vertices of the triangles still below minimumAngle move where that raises
+//    the smallest angle of their star (never inverting a triangle): a free vertex (one region
+//    around it, no boundary edge) toward the centroid of its neighbours (full, half or quarter
+//    way); a vertex with exactly two boundary edges and two regions around it slides along
+//    its curve (RefinementParams::curveSlide) toward the middle of its two boundary
+//    neighbours or toward that centroid, unless the middle of one of its boundary edges would
+//    get farther from the curves than 5% of the edge's length (or than it was); no move makes
+//    an angle above max(120 degrees, the largest before). Junctions and feature points stay.
+//    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more.
+// With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
+// triangles, which are smaller than the compressed ones, so layers that ran through the edges
+// of big triangles are found.
+// Outside the smoothing no step moves an existing vertex, and no step inverts a triangle;
+// outside the curve recovery and 2c no triangle changes region, and the regions' areas change
+// only where a boundary edge is split onto its curve or a boundary vertex slides.
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -64,6 +89,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
+#include <numeric>
 #include <string>
 
 namespace strata
@@ -72,10 +99,19 @@ namespace strata
 namespace
 {
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kMaxWalk = 1 << 16;       // steps of a point location walk
-constexpr std::size_t kMaxCavity = 256; // triangles of a cavity looked at for encroachment
-constexpr double kBoldFloor = 0.25;     // the bold runs' floor, relative to minimumAngle
-constexpr int kBoldRuns = 3;            // bold runs at most
+constexpr int kMaxWalk = 1 << 16;        // steps of a point location walk
+constexpr std::size_t kMaxCavity = 256;  // triangles of a cavity looked at for encroachment
+constexpr double kBoldFloor = 0.25;      // the bold runs' floor, relative to minimumAngle
+constexpr int kBoldRuns = 3;             // bold runs at most
+constexpr double kDissolveLength = 16.0; // corners dissolved in triangles up to this long
+                                         // (relative to minimumEdgeLength)
+constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at most
+constexpr int kSmoothingRounds = 4;      // rounds of the smoothing at most
+// A smoothing move makes no angle above max(120 degrees, the largest before).
+const double kSmoothingLargestCosine = std::cos(120.0 * kPi / 180.0);
+constexpr double kSlideDeviation = 0.05; // a slid boundary edge's middle stays this close to
+                                         // the curves (relative to its length)
+constexpr int kRecoveryPasses = 2;       // passes of 2b-5 with the curve recovery
 
 // > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
 // beyond a relative rounding margin.
@@ -137,10 +173,17 @@ public:
   void flipToDelaunay();
   /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted.
   std::size_t recoverCurves();
+  /// Region corners sharper than the bound in small triangles given a neighbour's region
+  /// (with the curve recovery's callbacks): returns the triangles retagged.
+  std::size_t dissolveCorners();
+  /// Smoothing of the vertices of the triangles below the bound: returns the moves.
+  std::size_t smoothBad();
   /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
   void adopt(const Refiner& prepared);
   /// The refinement of a prepared mesh.
   RefinementResult run();
+  /// Sets the result's counts of bad triangles (and of those at region corners).
+  void countBad(RefinementResult& result) const;
   std::size_t flips() const { return this->R.delaunayFlips; }
   /// The smallest angle (degrees) of the region triangles.
   double minimumAngle() const;
@@ -211,6 +254,9 @@ private:
   bool splitEdge(int t, int k, Vec2 w, std::vector<int>& created);
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
+  bool retag(int t);
+  double cornerAngle(int t) const;
+  double starCosine(const int* first, const int* last, double& largest) const;
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
   bool encroached(int start, Vec2 p, int& segT, int& segK);
   void queueBad(const std::vector<int>& tris);
@@ -747,6 +793,30 @@ std::size_t Refiner::recoverCurves()
   {
     queue.push_back(static_cast<int>(t));
   }
+  // Every triangle takes the region at its centroid first; a retag can allow its neighbours'
+  // (a few rounds).
+  std::vector<int> todo(queue.begin(), queue.end()), next;
+  for (int round = 0; round < 4 && !todo.empty(); ++round)
+  {
+    next.clear();
+    for (int t : todo)
+    {
+      this->poll();
+      if (this->retag(t))
+      {
+        for (int n : this->Nbr[t])
+        {
+          if (n >= 0)
+          {
+            next.push_back(n);
+          }
+        }
+      }
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    todo.swap(next);
+  }
   const std::size_t before = this->Inserted;
   std::vector<int> created;
   while (!queue.empty() && this->Inserted < this->Budget)
@@ -767,28 +837,311 @@ std::size_t Refiner::recoverCurves()
     ++this->Inserted; // (also what poll() reports)
     for (int u : created)
     {
-      const auto& tu = this->M.triangles[u];
-      const int r =
-        this->P.regionAt((1.0 / 3.0) * (this->X(tu[0]) + this->X(tu[1]) + this->X(tu[2])));
-      bool keepsCurves = true; // its new boundary edges join vertices on curves
-      for (int k = 0; k < 3 && keepsCurves && r != this->M.region[u] && this->P.onCurve; ++k)
-      {
-        const int n = this->Nbr[u][k];
-        if ((n >= 0 ? this->M.region[n] : -2) != r)
-        {
-          keepsCurves =
-            this->P.onCurve(this->X(tu[k])) && this->P.onCurve(this->X(tu[(k + 1) % 3]));
-        }
-      }
-      if (keepsCurves)
-      {
-        this->M.region[u] = r;
-      }
+      this->retag(u);
       queue.push_back(u);
     }
   }
   this->flipToDelaunay(); // regions changed: so did the constrained edges
   return this->Inserted - before;
+}
+
+// Gives t the region at its centroid unless that gives it a region boundary edge with an end
+// off the curves. Returns whether its region changed.
+bool Refiner::retag(int t)
+{
+  const auto& tri = this->M.triangles[t];
+  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+  const Vec2 g = (1.0 / 3.0) * (a + b + c);
+  if (!this->Live[t] ||
+    (this->P.curveDistance &&
+      this->P.curveDistance(g) > std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }))))
+  {
+    return false; // no curve runs near it: its region is its neighbours'
+  }
+  const int r = this->P.regionAt(g);
+  if (r == this->M.region[t])
+  {
+    return false;
+  }
+  for (int k = 0; k < 3 && this->P.onCurve; ++k)
+  {
+    const int n = this->Nbr[t][k];
+    if ((n >= 0 ? this->M.region[n] : -2) != r &&
+      !(this->P.onCurve(this->X(tri[k])) && this->P.onCurve(this->X(tri[(k + 1) % 3]))))
+    {
+      return false;
+    }
+  }
+  this->M.region[t] = r;
+  return true;
+}
+
+// The smallest angle (degrees) of t at a corner between two of its constrained edges (a
+// corner of its region); 180 when it has none or is not a region triangle.
+double Refiner::cornerAngle(int t) const
+{
+  if (this->M.region[t] < 0 || !this->Live[t])
+  {
+    return 180.0;
+  }
+  double angle = 180.0;
+  const auto& tri = this->M.triangles[t];
+  for (int i = 0; i < 3; ++i)
+  {
+    if (this->constrained(t, i) && this->constrained(t, (i + 2) % 3))
+    {
+      const Vec2 o = this->X(tri[i]);
+      const Vec2 u = this->X(tri[(i + 1) % 3]) - o, v = this->X(tri[(i + 2) % 3]) - o;
+      angle = std::min(angle, std::atan2(std::fabs(cross(u, v)), dot(u, v)) * 180.0 / kPi);
+    }
+  }
+  return angle;
+}
+
+std::size_t Refiner::dissolveCorners()
+{
+  if (!this->P.regionAt || !this->P.onCurve || !(this->P.minimumAngle > 0.0))
+  {
+    return 0;
+  }
+  std::map<int, std::size_t> count; // triangles per region
+  for (int r : this->M.region)
+  {
+    ++count[r];
+  }
+  const auto around = [&](int t)
+  {
+    double angle = this->cornerAngle(t);
+    for (int n : this->Nbr[t])
+    {
+      angle = n >= 0 ? std::min(angle, this->cornerAngle(n)) : angle;
+    }
+    return angle;
+  };
+  const double longest2 = std::pow(kDissolveLength * this->P.minimumEdgeLength, 2);
+  std::size_t total = 0;
+  std::vector<int> todo(this->M.triangles.size()), next;
+  std::iota(todo.begin(), todo.end(), 0);
+  for (int sweep = 0; sweep < kDissolveSweeps && !todo.empty(); ++sweep)
+  {
+    next.clear();
+    for (int t : todo)
+    {
+      this->poll();
+      const int old = this->M.region[t];
+      const auto& tri = this->M.triangles[t];
+      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+      if (old < 0 || !this->Live[t] || count[old] <= 1 ||
+        std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2 ||
+        this->cornerAngle(t) >= this->P.minimumAngle)
+      {
+        continue;
+      }
+      double best = around(t) + 1e-9;
+      int bestRegion = old;
+      for (int k = 0; k < 3; ++k)
+      {
+        const int n = this->Nbr[t][k];
+        if (n < 0 || this->M.region[n] == old || !this->Live[n])
+        {
+          continue; // the mesh's outer border: nothing beyond
+        }
+        const int r = this->M.region[n];
+        this->M.region[t] = r;
+        bool keepsCurves = true; // its new boundary edges join vertices on curves
+        for (int j = 0; j < 3 && keepsCurves; ++j)
+        {
+          const int m = this->Nbr[t][j];
+          keepsCurves = (m >= 0 ? this->M.region[m] : -1) == r ||
+            (this->P.onCurve(this->X(tri[j])) && this->P.onCurve(this->X(tri[(j + 1) % 3])));
+        }
+        const double angle = keepsCurves ? around(t) : -1.0;
+        this->M.region[t] = old;
+        if (angle > best)
+        {
+          best = angle;
+          bestRegion = r;
+        }
+      }
+      if (bestRegion != old)
+      {
+        this->M.region[t] = bestRegion;
+        --count[old];
+        ++count[bestRegion];
+        ++total;
+        next.push_back(t); // it may have a sharp corner in its new region
+        for (int n : this->Nbr[t])
+        {
+          if (n >= 0)
+          {
+            next.push_back(n);
+          }
+        }
+      }
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    todo.swap(next);
+  }
+  if (total > 0)
+  {
+    this->flipToDelaunay();
+  }
+  return total;
+}
+
+// Cosine of the smallest angle of the region triangles first..last (2 when one is not
+// counter-clockwise), and in `largest` the cosine of their largest angle.
+double Refiner::starCosine(const int* first, const int* last, double& largest) const
+{
+  double worst = -1.0;
+  largest = 1.0;
+  for (const int* it = first; it != last; ++it)
+  {
+    const auto& tri = this->M.triangles[*it];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    if (!(orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a))))
+    {
+      return 2.0;
+    }
+    if (this->M.region[*it] >= 0)
+    {
+      worst = std::max(worst, this->smallestAngleCosine(tri));
+      // The largest angle lies opposite the longest edge.
+      const double l0 = norm2(b - a), l1 = norm2(c - b), l2 = norm2(a - c);
+      const double cosine = l0 >= l1 && l0 >= l2 ? (l1 + l2 - l0) / (2.0 * std::sqrt(l1 * l2))
+        : l1 >= l2                               ? (l0 + l2 - l1) / (2.0 * std::sqrt(l0 * l2))
+                                                 : (l0 + l1 - l2) / (2.0 * std::sqrt(l0 * l1));
+      largest = std::min(largest, cosine);
+    }
+  }
+  return worst;
+}
+
+std::size_t Refiner::smoothBad()
+{
+  std::size_t moves = 0;
+  for (int round = 0; round < kSmoothingRounds; ++round)
+  {
+    const PointStars stars = pointStars(this->M.points.size(), this->M.triangles);
+    std::vector<int> todo;
+    for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+    {
+      this->poll();
+      if (this->bad(static_cast<int>(t)))
+      {
+        todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
+      }
+    }
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    std::size_t moved = 0;
+    std::vector<int> link, ends, regions;
+    std::vector<Vec2> candidates;
+    for (int v : todo)
+    {
+      this->poll();
+      const int* first = stars.items.data() + stars.start[v];
+      const int* last = stars.items.data() + stars.start[v + 1];
+      link.clear();
+      ends.clear(); // the other ends of its boundary edges
+      regions.clear();
+      bool live = first != last;
+      for (const int* it = first; it != last && live; ++it)
+      {
+        const int t = *it;
+        const auto& tri = this->M.triangles[t];
+        const int i = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+        live = this->Live[t];
+        link.push_back(tri[(i + 1) % 3]);
+        link.push_back(tri[(i + 2) % 3]);
+        regions.push_back(this->M.region[t]);
+        for (int k : { i, (i + 2) % 3 })
+        {
+          if (this->constrained(t, k))
+          {
+            ends.push_back(k == i ? tri[(i + 1) % 3] : tri[(i + 2) % 3]);
+            if (this->Nbr[t][k] < 0)
+            {
+              regions.push_back(-1); // the mesh's outer border: the exterior beyond
+            }
+          }
+        }
+      }
+      for (std::vector<int>* list : { &link, &ends, &regions })
+      {
+        std::sort(list->begin(), list->end());
+        list->erase(std::unique(list->begin(), list->end()), list->end());
+      }
+      const bool free = ends.empty() && regions.size() == 1 && regions[0] >= 0;
+      const bool boundary =
+        ends.size() == 2 && regions.size() == 2 && this->P.curveSlide && this->P.curveDistance;
+      if (!live || (!free && !boundary))
+      {
+        continue;
+      }
+      const Vec2 p = this->M.points[v];
+      Vec2 centre;
+      for (int u : link)
+      {
+        centre = centre + this->X(u);
+      }
+      centre = (1.0 / static_cast<double>(link.size())) * centre;
+      const auto deviation = [&]()
+      {
+        double worst = 0.0;
+        for (int e : ends)
+        {
+          worst = std::max(worst,
+            this->P.curveDistance(0.5 * (this->X(e) + this->X(v))) / norm(this->X(e) - this->X(v)));
+        }
+        return worst;
+      };
+      const double allowed = boundary ? std::max(deviation(), kSlideDeviation) : 0.0;
+      candidates.clear();
+      for (double s : { 1.0, 0.5, 0.25 })
+      {
+        if (free)
+        {
+          candidates.push_back(p + s * (centre - p));
+          continue;
+        }
+        const Vec2 middle = 0.5 * (this->X(ends[0]) + this->X(ends[1]));
+        for (Vec2 toward : { p + s * (middle - p), p + s * (centre - p) })
+        {
+          Vec2 at;
+          if (this->P.curveSlide(p, toward, regions[0], regions[1], at))
+          {
+            candidates.push_back(at);
+          }
+        }
+      }
+      double largest = 1.0;
+      double best = this->starCosine(first, last, largest) - 1e-12;
+      const double largestAllowed = std::min(largest, kSmoothingLargestCosine);
+      Vec2 bestAt = p;
+      for (Vec2 q : candidates)
+      {
+        this->M.points[v] = q;
+        const double c = this->starCosine(first, last, largest);
+        if (c < best && largest >= largestAllowed - 1e-12 &&
+          (!boundary || deviation() <= allowed + 1e-12))
+        {
+          best = c;
+          bestAt = q;
+        }
+      }
+      this->M.points[v] = bestAt;
+      moved += !(bestAt == p);
+    }
+    moves += moved;
+    if (moved == 0)
+    {
+      break;
+    }
+    this->flipToDelaunay();
+  }
+  return moves;
 }
 
 void Refiner::adopt(const Refiner& prepared)
@@ -893,19 +1246,25 @@ RefinementResult Refiner::run()
     ++this->Inserted;
     this->queueBad(this->Changed); // t itself is gone: w lay inside its circumcircle
   }
+  this->countBad(this->R);
+  return this->R;
+}
+
+void Refiner::countBad(RefinementResult& result) const
+{
+  result.badTrianglesLeft = result.badTrianglesAtCorners = 0;
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
     this->poll();
     const int ti = static_cast<int>(t);
     if (this->bad(ti))
     {
-      ++this->R.badTrianglesLeft;
+      ++result.badTrianglesLeft;
       const int corner = this->smallestCorner(ti);
-      this->R.badTrianglesAtCorners +=
+      result.badTrianglesAtCorners +=
         this->constrained(ti, corner) && this->constrained(ti, (corner + 2) % 3);
     }
   }
-  return this->R;
 }
 double Refiner::minimumAngle() const
 {
@@ -983,6 +1342,64 @@ void validate(const RefinementParams& p)
   }
 }
 
+namespace
+{
+// One pass of refineDelaunay() (2 to 5 at the top of this file): the cautious run first (its
+// smallest angle is the one to beat), then bold runs, each with cautious zones around the
+// triangles where the previous bold run ended below the best so far; the run with the largest
+// smallest angle (then the fewest bad triangles) is kept, then smoothed.
+RefinementResult refinePass(RegionMesh& mesh,
+  const BoundarySplitter& splitter,
+  const RefinementParams& params,
+  const ProgressReporter& progress)
+{
+  const std::vector<Zone> none;
+  Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
+  base.prepare(); // mesh is constrained Delaunay from here on
+  const std::size_t recovered = base.recoverCurves();
+  const std::size_t dissolved = base.dissolveCorners();
+  const std::size_t flips = base.flips();
+  RegionMesh best = mesh;
+  Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
+  cautious.adopt(base);
+  RefinementResult bestResult = cautious.run();
+  double bestAngle = cautious.minimumAngle();
+  std::vector<Zone> zones;
+  for (int round = 0;
+       round < kBoldRuns && params.minimumAngle > 0.0 && bestAngle < params.minimumAngle;
+       ++round)
+  {
+    RegionMesh bold = mesh;
+    Refiner run(bold,
+      splitter,
+      params,
+      kBoldFloor,
+      zones,
+      progress.sub(0.3 + 0.65 * round / kBoldRuns, 0.3 + 0.65 * (round + 1) / kBoldRuns));
+    run.adopt(base);
+    const RefinementResult result = run.run();
+    const double angle = run.minimumAngle();
+    if (angle > bestAngle + 1e-9 ||
+      (angle >= bestAngle - 1e-9 && result.badTrianglesLeft < bestResult.badTrianglesLeft))
+    {
+      best = std::move(bold);
+      bestResult = result;
+      bestAngle = std::max(angle, bestAngle);
+    }
+    run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
+  }
+  Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
+  polish.prepare();
+  bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
+  bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
+  polish.countBad(bestResult);
+  bestResult.delaunayFlips += flips + polish.flips();
+  bestResult.curveVertices = recovered;
+  mesh = std::move(best);
+  return bestResult;
+}
+} // namespace
+
 RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
@@ -1007,46 +1424,25 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       }
     }
   }
-  // The cautious run first (its smallest angle is the one to beat), then bold runs, each with
-  // cautious zones around the triangles where the previous bold run ended below the best so
-  // far (see the top of this file); the run with the largest smallest angle is kept.
-  const std::vector<Zone> none;
-  Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
-  base.prepare(); // mesh is constrained Delaunay from here on
-  const std::size_t recovered = base.recoverCurves();
-  const std::size_t flips = base.flips();
-  RegionMesh best = mesh;
-  Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
-  cautious.adopt(base);
-  RefinementResult bestResult = cautious.run();
-  double bestAngle = cautious.minimumAngle();
-  std::vector<Zone> zones;
-  for (int round = 0;
-       round < kBoldRuns && params.minimumAngle > 0.0 && bestAngle < params.minimumAngle;
-       ++round)
+  RefinementResult total;
+  const int passes = params.curvePoint && params.regionAt ? kRecoveryPasses : 1;
+  for (int pass = 0; pass < passes; ++pass)
   {
-    RegionMesh bold = mesh;
-    Refiner run(bold,
+    const RefinementResult r = refinePass(mesh,
       splitter,
       params,
-      kBoldFloor,
-      zones,
-      progress.sub(0.3 + 0.7 * round / kBoldRuns, 0.3 + 0.7 * (round + 1) / kBoldRuns));
-    run.adopt(base);
-    const RefinementResult result = run.run();
-    const double angle = run.minimumAngle();
-    if (angle > bestAngle)
-    {
-      best = std::move(bold);
-      bestResult = result;
-      bestAngle = angle;
-    }
-    run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
+      progress.sub(static_cast<double>(pass) / passes, static_cast<double>(pass + 1) / passes));
+    total.delaunayFlips += r.delaunayFlips;
+    total.interiorVertices += r.interiorVertices;
+    total.boundaryVertices += r.boundaryVertices;
+    total.curveVertices += r.curveVertices;
+    total.smoothingMoves += r.smoothingMoves;
+    total.dissolvedCorners += r.dissolvedCorners;
+    total.badTrianglesLeft = r.badTrianglesLeft;
+    total.badTrianglesAtCorners = r.badTrianglesAtCorners;
+    total.budgetReached = total.budgetReached || r.budgetReached;
   }
-  bestResult.delaunayFlips += flips;
-  bestResult.curveVertices = recovered;
-  mesh = std::move(best);
-  return bestResult;
+  return total;
 }
 
 } // namespace strata

@@ -34,13 +34,24 @@ struct RefinementParams
   /// curve strictly inside the triangle where a curve runs through it (a layer the mesh lost
   /// between two of its region boundaries); that point is inserted and the triangles around
   /// it take the region regionAt gives at their centroid (a region id, -1 the exterior).
-  /// Triangles whose shortest edge is below minimumEdgeLength are not probed.
+  /// Triangles whose shortest edge is below minimumEdgeLength are not probed. With the
+  /// recovery, every triangle is first given the region at its centroid, the refinement runs
+  /// twice (the second recovery probes the refined triangles), and region corners sharper
+  /// than minimumAngle in small triangles are dissolved (see DelaunayRefinement.cpp).
   std::function<bool(Vec2 a, Vec2 b, Vec2 c, Vec2& at)> curvePoint;
   std::function<int(Vec2 p)> regionAt;
   /// With the curve recovery: whether a point lies on a model curve. A triangle keeps its
   /// region when the new one would give it a region boundary edge with an end off the
   /// curves. Empty: no such check.
   std::function<bool(Vec2 p)> onCurve;
+  /// Optional smoothing of the vertices of the triangles still below minimumAngle (both set,
+  /// or only free vertices move): curveSlide moves the vertex at `from`, on the curve that
+  /// separates regions `left` and `right`, along that curve toward `toward` and returns true
+  /// with the point reached in `at`, or returns false when the vertex may not move (a
+  /// junction, a feature point, not on such a curve); curveDistance is the distance from a
+  /// point to the nearest model curve (a slid vertex's boundary edges may not leave them).
+  std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
+  std::function<double(Vec2 p)> curveDistance;
 };
 
 /// Throws ParameterError naming the parameter and its range.
@@ -75,8 +86,10 @@ struct RefinementResult
   /// insertion can widen).
   std::size_t badTrianglesLeft = 0;
   std::size_t badTrianglesAtCorners = 0;
-  bool budgetReached = false;    ///< insertionBudget stopped the refinement
-  std::size_t curveVertices = 0; ///< vertices inserted on curves by the curve recovery
+  bool budgetReached = false;       ///< insertionBudget stopped the refinement
+  std::size_t curveVertices = 0;    ///< vertices inserted on curves by the curve recovery
+  std::size_t smoothingMoves = 0;   ///< vertex moves of the smoothing after the refinement
+  std::size_t dissolvedCorners = 0; ///< triangles given a neighbour's region (sharp corners)
 };
 
 /// The triangles around each point of a triangle list: those around point v are
@@ -94,10 +107,11 @@ PointStars pointStars(std::size_t numberOfPoints, const std::vector<std::array<i
 /// when that point would encroach a region boundary edge (lie inside its diametral circle or
 /// beyond it), splits that edge at the point `splitter` gives. Of a cautious run (no insertion
 /// lowers a local smallest angle) and up to three bolder ones, the result with the largest
-/// smallest angle is kept: never below the input mesh's (after the flips). The result's counts
-/// are those of the run kept (delaunayFlips included). Throws ParameterError for
-/// parameters out of range or a mesh that breaks the preconditions of RegionMesh (sizes,
-/// point ids, an edge in three triangles), Aborted when the progress callback asks to stop.
+/// smallest angle (then the fewest triangles below minimumAngle) is kept: never below the
+/// input mesh's (after the flips); then the vertices of the triangles still below the bound
+/// are smoothed. The result's counts are those of the run kept (delaunayFlips included). Throws
+/// ParameterError for parameters out of range or a mesh that breaks the preconditions of RegionMesh
+/// (sizes, point ids, an edge in three triangles), Aborted when the progress callback asks to stop.
 RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params = {},

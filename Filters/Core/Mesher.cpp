@@ -25,6 +25,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -92,14 +94,15 @@ std::size_t trianglesAtSharpCorners(const Model& model,
 }
 
 // Vertices of the region boundary (an edge between triangles of different regions, -1 the
-// exterior) farther than `tolerance` from the curves that the compression could not place:
-// each is moved to its closest curve point when every triangle around it stays
-// counter-clockwise (the Delaunay refinement after this mends the angles). Returns how many
-// moved.
+// exterior) farther than `tolerance` from the curves that the compression could not place,
+// and those of a triangle `misplaced` flags when given: each is moved to its closest curve
+// point when every triangle around it stays counter-clockwise (the Delaunay refinement after
+// this mends the angles). Returns how many moved.
 std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   const BoundaryRails& rails,
   StripTreeScratch& scratch,
-  double tolerance)
+  double tolerance,
+  const std::function<bool(int)>& misplaced = {})
 {
   const std::size_t np = mesh.points.size();
   const PointStars stars = pointStars(np, mesh.triangles);
@@ -112,6 +115,10 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     for (int s = start[v] + 1; s < start[v + 1] && !boundary; ++s)
     {
       boundary = mesh.triangleRegion[star[s]] != mesh.triangleRegion[star[start[v]]];
+    }
+    for (int s = start[v]; s < start[v + 1] && !boundary && misplaced; ++s)
+    {
+      boundary = misplaced(star[s]);
     }
     double d = 0.0;
     if (!boundary || (rails.closest(mesh.points[v], scratch, &d), d <= tolerance))
@@ -143,6 +150,8 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
 // split at the point of their curve nearest their middle, on the chain that separates the
 // same two regions (and, with curveRecovery, the curve recovery's callbacks).
+constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
+
 void refineCompressed(CompressionResult& compressed,
   const Model& model,
   const DistanceField& field,
@@ -153,6 +162,27 @@ void refineCompressed(CompressionResult& compressed,
   MesherResult& result)
 {
   StripTreeScratch scratch;
+  // The closest curve point, remembered for the last point asked: the refinement asks about a
+  // triangle's centroid several times in a row.
+  struct
+  {
+    Vec2 p{ std::numeric_limits<double>::quiet_NaN(), 0.0 };
+    BoundaryRails::Location location;
+    double distance = 0.0;
+  } last;
+  const auto closest = [&](Vec2 p, double* distance)
+  {
+    if (!(p == last.p))
+    {
+      last.p = p;
+      last.location = rails.closest(p, scratch, &last.distance);
+    }
+    if (distance)
+    {
+      *distance = last.distance;
+    }
+    return last.location;
+  };
   if (compressed.offCurveBoundaryVertices > 0 &&
     snapStrayBoundaryVertices(compressed, rails, scratch, 1e-9 * model.size()) ==
       compressed.offCurveBoundaryVertices)
@@ -164,6 +194,46 @@ void refineCompressed(CompressionResult& compressed,
         [](const std::string& w)
         { return w.find("could not be placed on a curve") != std::string::npos; }),
       compressed.warnings.end());
+  }
+  DistanceField::Scratch fieldScratch;
+  const auto regionOf = [&](Vec2 p)
+  {
+    // The side of the nearest curve point when it lies inside a segment (cheap), else the
+    // distance field's regions (where curves meet, the side of one segment can mislead).
+    const BoundaryRails::Location l = closest(p, nullptr);
+    if (l.chain >= 0 && l.t > 1e-9 && l.t < 1.0 - 1e-9)
+    {
+      const BoundaryRails::Chain& c = rails.chain(l.chain);
+      const double side = cross(rails.tangent(l), p - rails.position(l));
+      if (side != 0.0)
+      {
+        return side > 0.0 ? c.left : c.right;
+      }
+    }
+    return field.query(p, fieldScratch).region;
+  };
+  if (params.curveRecovery)
+  {
+    // A vertex off the curves that keeps a triangle from taking the region at its centroid
+    // (a corner of a lost layer, the border of a hole) moves onto its curve when it can.
+    std::vector<char> wrong(compressed.triangles.size());
+    for (std::size_t t = 0; t < wrong.size(); ++t)
+    {
+      if ((t & 4095) == 0)
+      {
+        progress.report(0.0, "refining toward the minimum angle");
+      }
+      const auto& tri = compressed.triangles[t];
+      const Vec2 a = compressed.points[tri[0]], b = compressed.points[tri[1]],
+                 c = compressed.points[tri[2]];
+      const Vec2 g = (1.0 / 3.0) * (a + b + c);
+      double d = 0.0;
+      closest(g, &d);
+      wrong[t] = d <= std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) })) &&
+        regionOf(g) != compressed.triangleRegion[t];
+    }
+    snapStrayBoundaryVertices(
+      compressed, rails, scratch, 1e-9 * model.size(), [&](int t) { return wrong[t] != 0; });
   }
   RefinementParams rp = params.refinement;
   if (!(rp.minimumEdgeLength > 0.0))
@@ -177,7 +247,7 @@ void refineCompressed(CompressionResult& compressed,
   const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
   {
     double d = 0.0;
-    const BoundaryRails::Location l = rails.closest(0.5 * (a + b), scratch, &d);
+    const BoundaryRails::Location l = closest(0.5 * (a + b), &d);
     if (l.chain < 0)
     {
       return false;
@@ -186,39 +256,98 @@ void refineCompressed(CompressionResult& compressed,
     const bool ends = !c.closed &&
       ((l.segment == 0 && l.t == 0.0) ||
         (l.segment + 1 == static_cast<int>(c.numberOfSegments()) && l.t == 1.0));
-    if (ends || d > 0.5 * norm(b - a) ||
-      !((c.left == left && c.right == right) || (c.left == right && c.right == left)))
+    // The curve that separates the edge's two regions; with the curve recovery also one that
+    // separates one of them from a third, a layer the mesh lost beside the edge (the split
+    // brings its triangles down to where the second pass recovers the layer).
+    const bool same = (c.left == left && c.right == right) || (c.left == right && c.right == left);
+    const bool shares = c.left == left || c.left == right || c.right == left || c.right == right;
+    if (ends || d > 0.5 * norm(b - a) || !(same || (params.curveRecovery && shares)))
     {
       return false; // a junction (it has its vertex), or not this edge's curve
     }
     at = rails.position(l);
     return true;
   };
-  DistanceField::Scratch fieldScratch;
+  rp.curveDistance = [&](Vec2 p)
+  {
+    double d = 0.0;
+    closest(p, &d);
+    return d;
+  };
+  rp.curveSlide = [&](Vec2 from, Vec2 toward, int left, int right, Vec2& at)
+  {
+    double d = 0.0;
+    const BoundaryRails::Location l = closest(from, &d);
+    if (l.chain < 0 || d > 1e-9 * model.size())
+    {
+      return false;
+    }
+    const BoundaryRails::Chain& c = rails.chain(l.chain);
+    const int point = rails.pointAt(l);
+    if (!((c.left == left && c.right == right) || (c.left == right && c.right == left)) ||
+      (point >= 0 && rails.isStop(l.chain, point)))
+    {
+      return false; // another curve's, or a junction or feature point: it stays
+    }
+    at = rails.position(rails.slide(l, dot(toward - from, rails.tangent(l))).location);
+    return true;
+  };
   if (params.curveRecovery)
   {
-    rp.regionAt = [&](Vec2 p) { return field.query(p, fieldScratch).region; };
+    rp.regionAt = regionOf;
     rp.onCurve = [&](Vec2 p)
     {
       double d = 0.0;
-      rails.closest(p, scratch, &d);
+      closest(p, &d);
       return d <= 1e-9 * model.size();
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
-      // The curve point nearest the centroid, if it lies inside, a tenth of the longest edge
-      // or more from every side.
+      // Of the curve points nearest the centroid and nearest the midpoints between it and
+      // the corners, the one farthest inside, if it lies at least margin = max(2% of the
+      // longest edge, the refinement's minimum edge length) from every side, and the regions
+      // 2 margins away on both sides of its curve are that curve's (no layer thinner than that
+      // beside it: a pinch-out's tip is not brought back, its neighbours keep it).
       const Vec2 g = (1.0 / 3.0) * (a + b + c);
-      at = rails.position(rails.closest(g, scratch));
-      const double margin = 0.1 * std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-      for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+      const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+      const double margin = std::max(rp.minimumEdgeLength, 0.02 * longest);
+      const double inradius = orient2d(a, b, c) / (norm(b - a) + norm(c - b) + norm(a - c));
+      if (inradius <= margin)
       {
-        if (!(orient2d(p, q, at) > margin * norm(q - p)))
+        return false; // no point of it lies that far inside
+      }
+      double inside = -std::numeric_limits<double>::infinity(), d = 0.0;
+      closest(g, &d);
+      if (d > longest)
+      {
+        return false; // no curve comes near the triangle
+      }
+      for (Vec2 probe : { g, 0.5 * (g + a), 0.5 * (g + b), 0.5 * (g + c) })
+      {
+        const BoundaryRails::Location l = closest(probe, nullptr);
+        if (l.chain < 0)
         {
           return false;
         }
+        const Vec2 x = rails.position(l);
+        const BoundaryRails::Chain& chain = rails.chain(l.chain);
+        const Vec2 left = kLayerProbe * margin * Vec2{ -rails.tangent(l).y, rails.tangent(l).x };
+        if (regionOf(x + left) != chain.left || regionOf(x - left) != chain.right)
+        {
+          continue; // a layer thinner than that beside it: left to its neighbours
+        }
+        double m = std::numeric_limits<double>::infinity();
+        for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+        {
+          m = std::min(m, orient2d(p, q, x) / norm(q - p));
+        }
+        if (m > inside)
+        {
+          inside = m;
+          at = x;
+        }
       }
-      return true;
+      return inside > margin;
     };
   }
   RegionMesh rm{ std::move(compressed.points),

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
@@ -230,6 +231,117 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
         << "boundary edge " << e.first << "-" << e.second << " leaves the curves";
     }
   }
+}
+
+// Smoothing after the refinement (here no vertex can be inserted: the floor is longer than
+// every edge). A 10 x 10 square cut by the curve y = 5 (region 0 below, 1 above), all its
+// triangles around the vertex v = (9, 5) on that curve: with a curveSlide along y = 5, v
+// slides toward the middle, stays on the curve, and the smallest angle grows with both areas
+// kept; without curveSlide v stays where it is. The same square as one region, v free, is
+// moved toward the centroid of its neighbours.
+TEST(DelaunayRefinementTest, SmoothingSlidesBoundaryVerticesOnTheirCurveAndMovesFreeOnes)
+{
+  const auto square = [](int upper)
+  {
+    RegionMesh m;
+    m.points = { { 9, 5 }, { 0, 0 }, { 10, 0 }, { 10, 5 }, { 10, 10 }, { 0, 10 }, { 0, 5 } };
+    m.triangles = { { 0, 6, 1 }, { 0, 1, 2 }, { 0, 2, 3 }, { 0, 3, 4 }, { 0, 4, 5 }, { 0, 5, 6 } };
+    m.region = { 0, 0, 0, upper, upper, upper };
+    m.level.assign(6, 0);
+    return m;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 100.0; // nothing inserted, nothing split
+  p.curveDistance = [](Vec2 q)
+  {
+    return std::min({ std::fabs(q.y - 5.0),
+      std::fabs(q.y),
+      std::fabs(q.y - 10.0),
+      std::fabs(q.x),
+      std::fabs(q.x - 10.0) });
+  };
+  p.curveSlide = [](Vec2 from, Vec2 toward, int left, int right, Vec2& at)
+  {
+    if (from.y != 5.0 || std::min(left, right) != 0 || std::max(left, right) != 1)
+    {
+      return false;
+    }
+    at = { std::clamp(toward.x, 0.5, 9.5), 5.0 };
+    return true;
+  };
+  RegionMesh two = square(1);
+  const double before = meshMinimumAngle(two);
+  const RefinementResult slid = strata::refineDelaunay(two, middle, p);
+  expectValid(two);
+  EXPECT_EQ(slid.interiorVertices + slid.boundaryVertices, 0u);
+  EXPECT_GT(slid.smoothingMoves, 0u);
+  EXPECT_EQ(two.points[0].y, 5.0);
+  EXPECT_LT(two.points[0].x, 9.0);
+  EXPECT_GT(meshMinimumAngle(two), before + 5.0);
+  const std::map<int, double> a = regionAreas(two);
+  EXPECT_NEAR(a.at(0), 50.0, 1e-9);
+  EXPECT_NEAR(a.at(1), 50.0, 1e-9);
+
+  RefinementParams fixed = p;
+  fixed.curveSlide = nullptr;
+  RegionMesh stays = square(1);
+  EXPECT_EQ(strata::refineDelaunay(stays, middle, fixed).smoothingMoves, 0u);
+  EXPECT_EQ(stays.points[0], (Vec2{ 9, 5 }));
+
+  RegionMesh one = square(0);
+  const RefinementResult moved = strata::refineDelaunay(one, middle, fixed);
+  expectValid(one);
+  EXPECT_GT(moved.smoothingMoves, 0u);
+  EXPECT_LT(strata::norm(one.points[0] - Vec2{ 5, 5 }), strata::norm(Vec2{ 9, 5 } - Vec2{ 5, 5 }));
+  EXPECT_GT(meshMinimumAngle(one), before + 5.0);
+  EXPECT_NEAR(regionAreas(one).at(0), 100.0, 1e-9);
+}
+
+// With the curve recovery's regionAt and onCurve, a region's 10-degree spike (a triangle whose
+// corner lies between two region boundary edges) takes its neighbour's region: no corner of a
+// region is left below the bound, the total area is kept; a region made of that triangle alone
+// keeps it (no region disappears).
+TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
+{
+  const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
+  const auto spike = [&](bool second)
+  {
+    RegionMesh m;
+    m.points = { { 0, 0 }, { 10, 0 }, { 10, tip }, { 0, 10 }, { 10, 10 } };
+    m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 } };
+    m.region = { 1, 0, 0 };
+    if (second) // a second piece of region 1, away from the spike
+    {
+      m.points.insert(m.points.end(), { { 20, 0 }, { 30, 0 }, { 25, 8 } });
+      m.triangles.push_back({ 5, 6, 7 });
+      m.region.push_back(1);
+    }
+    m.level.assign(m.triangles.size(), 0);
+    return m;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 1.0;
+  p.onCurve = [](Vec2) { return true; };
+  p.regionAt = [&](Vec2 q)
+  {
+    return q.x >= 20.0 || (q.y < q.x * tip / 10.0) ? 1 : 0; // the tags the mesh has
+  };
+  // No curvePoint: no recovery (nor its second pass, whose retag would give the spike's
+  // pieces back to region 1), only the dissolving.
+  RegionMesh m = spike(true);
+  const double total = regionAreas(m).at(0) + regionAreas(m).at(1);
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.dissolvedCorners, 0u);
+  EXPECT_EQ(r.badTrianglesAtCorners, 0u);
+  const std::map<int, double> a = regionAreas(m);
+  EXPECT_NEAR(a.at(0) + a.at(1), total, 1e-9);
+  EXPECT_NEAR(a.at(1), 40.0, 1e-9); // the second piece only
+
+  RegionMesh alone = spike(false);
+  const RefinementResult kept = strata::refineDelaunay(alone, middle, p);
+  EXPECT_EQ(kept.dissolvedCorners, 0u);
+  EXPECT_NEAR(regionAreas(alone).at(1), 5.0 * tip, 1e-9);
 }
 
 // With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
