@@ -93,11 +93,14 @@ std::size_t trianglesAtSharpCorners(const Model& model,
   return count;
 }
 
+constexpr double kSnapFloor = 5.0; // degrees: a snap leaves no smaller angle (unless one was)
+
 // Vertices of the region boundary (an edge between triangles of different regions, -1 the
 // exterior) farther than `tolerance` from the curves that the compression could not place,
 // and those of a triangle `misplaced` flags when given: each is moved to its closest curve
-// point when every triangle around it stays counter-clockwise (the Delaunay refinement after
-// this mends the angles). Returns how many moved.
+// point when every triangle around it stays counter-clockwise with no angle below
+// min(5 degrees, its smallest before) (the Delaunay refinement after this mends the angles).
+// Returns how many moved.
 std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   const BoundaryRails& rails,
   StripTreeScratch& scratch,
@@ -129,13 +132,16 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     bool valid = true;
     for (int s = start[v]; s < start[v + 1] && valid; ++s)
     {
-      std::array<Vec2, 3> p{};
+      std::array<Vec2, 3> p{}, q{};
       for (int k = 0; k < 3; ++k)
       {
         const int w = mesh.triangles[star[s]][k];
-        p[k] = w == static_cast<int>(v) ? to : mesh.points[w];
+        q[k] = mesh.points[w];
+        p[k] = w == static_cast<int>(v) ? to : q[k];
       }
-      valid = orient2d(p[0], p[1], p[2]) > 0.0;
+      // Counter-clockwise, and not flat: no angle below min(the one before, 5 degrees).
+      valid = orient2d(p[0], p[1], p[2]) > 0.0 &&
+        minimumAngle(p[0], p[1], p[2]) >= std::min(minimumAngle(q[0], q[1], q[2]), kSnapFloor);
     }
     if (valid)
     {

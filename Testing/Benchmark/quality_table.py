@@ -2,7 +2,7 @@
 
 Run by hand (not part of ctest), with Debian's Python:
     /usr/bin/python3 Testing/Benchmark/quality_table.py --tool build/bin/triangulate_to_vtu \
-        --meshcheck ../shared/tools/meshcheck.py [--out /tmp/quality] [--tool-args "--curve-recovery"]
+        --meshcheck ../shared/tools/meshcheck.py [--out /tmp/quality] [--tool-args "--no-curve-recovery"]
 For every model it meshes with the default settings (automatic levels) and, for the paper's
 three models, at the MaxLevel whose triangle count is nearest the paper's; then prints a
 Markdown table of what meshcheck.py recomputes from the geometry alone, plus one figure of
@@ -84,7 +84,7 @@ def main():
     ap.add_argument("--meshcheck", required=True)
     ap.add_argument("--out", default="/tmp/stratamesh_quality")
     ap.add_argument("--tool-args", default="",
-                    help="extra options for the tool on every run, e.g. \"--curve-recovery\"")
+                    help="extra options for the tool on every run, e.g. \"--no-curve-recovery\"")
     args = ap.parse_args()
     spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
     args.checker = importlib.util.module_from_spec(spec)

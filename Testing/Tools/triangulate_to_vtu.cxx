@@ -9,7 +9,7 @@
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
-//   --curve-recovery
+//   --curve-recovery (the default) | --no-curve-recovery
 //   --boundary OUT.vtp (approximated boundary polylines)
 #include "Mesher.h"
 #include "VtpAscii.h"
@@ -212,6 +212,8 @@ int main(int argc, char** argv)
       p.compression.boundaryTolerance = std::atof(next());
     else if (a == "--curve-recovery")
       p.curveRecovery = true;
+    else if (a == "--no-curve-recovery")
+      p.curveRecovery = false;
     else if (a == "--minimum-angle")
       p.refinement.minimumAngle = std::atof(next());
     else if (a == "--rings")
