@@ -7,8 +7,12 @@
 //   classification      classify(): vertices, edges, faces against the regions
 //   compression ...     compress(): set-up, simulation, face classification, optimization
 //   refinement          (with the optimization) boundary vertices left off the curves snapped
-//                       onto them, then refineDelaunay() toward MinimumAngle, boundary edges
-//                       split at the point of their curve nearest their middle
+//                       onto them (with the curve recovery also those that keep a triangle
+//                       from its centroid's region), then refineDelaunay() toward
+//                       MinimumAngle, boundary edges split at the point of their curve
+//                       nearest their middle, with the curve recovery's callbacks (region
+//                       at a point by the nearest curve's side, curve points that keep
+//                       layers thinner than two margins out) and the smoothing's (slides)
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation, region areas),
@@ -23,6 +27,7 @@
 #include "StripTree.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -152,12 +157,12 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   return moved;
 }
 
+constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
+
 // The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
 // split at the point of their curve nearest their middle, on the chain that separates the
 // same two regions (and, with curveRecovery, the curve recovery's callbacks).
-constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
-
 void refineCompressed(CompressionResult& compressed,
   const Model& model,
   const DistanceField& field,
@@ -322,12 +327,15 @@ void refineCompressed(CompressionResult& compressed,
       {
         return false; // no point of it lies that far inside
       }
-      double inside = -std::numeric_limits<double>::infinity(), d = 0.0;
+      double d = 0.0;
       closest(g, &d);
       if (d > longest)
       {
         return false; // no curve comes near the triangle
       }
+      // The candidates by how far inside they lie; the first with no thin layer beside it.
+      std::array<std::pair<double, BoundaryRails::Location>, 4> candidates;
+      int n = 0;
       for (Vec2 probe : { g, 0.5 * (g + a), 0.5 * (g + b), 0.5 * (g + c) })
       {
         const BoundaryRails::Location l = closest(probe, nullptr);
@@ -336,24 +344,36 @@ void refineCompressed(CompressionResult& compressed,
           return false;
         }
         const Vec2 x = rails.position(l);
-        const BoundaryRails::Chain& chain = rails.chain(l.chain);
-        const Vec2 left = kLayerProbe * margin * Vec2{ -rails.tangent(l).y, rails.tangent(l).x };
-        if (regionOf(x + left) != chain.left || regionOf(x - left) != chain.right)
-        {
-          continue; // a layer thinner than that beside it: left to its neighbours
-        }
-        double m = std::numeric_limits<double>::infinity();
+        double inside = std::numeric_limits<double>::infinity();
         for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
         {
-          m = std::min(m, orient2d(p, q, x) / norm(q - p));
+          inside = std::min(inside, orient2d(p, q, x) / norm(q - p));
         }
-        if (m > inside)
+        if (!(inside > margin))
         {
-          inside = m;
-          at = x;
+          continue;
         }
+        int k = n++; // sorted by insertion, farthest inside first
+        for (; k > 0 && candidates[k - 1].first < inside; --k)
+        {
+          candidates[k] = candidates[k - 1];
+        }
+        candidates[k] = { inside, l };
       }
-      return inside > margin;
+      for (int k = 0; k < n; ++k)
+      {
+        const BoundaryRails::Location& l = candidates[k].second;
+        const Vec2 x = rails.position(l);
+        const BoundaryRails::Chain& chain = rails.chain(l.chain);
+        const Vec2 left = kLayerProbe * margin * Vec2{ -rails.tangent(l).y, rails.tangent(l).x };
+        if (regionOf(x + left) == chain.left && regionOf(x - left) == chain.right)
+        {
+          at = x;
+          return true;
+        }
+        // else a layer thinner than that beside it: left to its neighbours
+      }
+      return false;
     };
   }
   RegionMesh rm{ std::move(compressed.points),
