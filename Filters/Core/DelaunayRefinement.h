@@ -26,9 +26,9 @@ struct RefinementParams
   /// not split: the floor that ends the refinement where the input itself is finer (curves
   /// closer than this, small input angles).
   double minimumEdgeLength = 0.0;
-  /// At most this many vertices are inserted per triangle of the input mesh (plus 1000).
-  /// Range [0, 100].
-  double insertionBudget = 1.0;
+  /// At most this many vertices are inserted per triangle of the input mesh (plus 1000), per
+  /// pass. Range [0, 100].
+  double insertionBudget = 4.0;
   /// Optional curve recovery, before the refinement (both set, or nothing happens): called with
   /// a triangle's corners (counter-clockwise), curvePoint returns true and a point of a model
   /// curve strictly inside the triangle where a curve runs through it (a layer the mesh lost
