@@ -135,6 +135,12 @@ Vec2 circumcenter(Vec2 a, Vec2 b, Vec2 c)
   return a + Vec2{ (ca.y * lb - ba.y * lc) / d, (ba.x * lc - ca.x * lb) / d };
 }
 
+void sortUnique(std::vector<int>& list)
+{
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
 // A disk where insertions must not lower the local smallest angle (see refineDelaunay()).
 struct Zone
 {
@@ -255,6 +261,16 @@ private:
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
   bool retag(int t);
+  void appendNeighbours(int t, std::vector<int>& list) const
+  {
+    for (int n : this->Nbr[t])
+    {
+      if (n >= 0)
+      {
+        list.push_back(n);
+      }
+    }
+  }
   double cornerAngle(int t) const;
   double starCosine(const int* first, const int* last, double& largest) const;
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
@@ -804,17 +820,10 @@ std::size_t Refiner::recoverCurves()
       this->poll();
       if (this->retag(t))
       {
-        for (int n : this->Nbr[t])
-        {
-          if (n >= 0)
-          {
-            next.push_back(n);
-          }
-        }
+        this->appendNeighbours(t, next);
       }
     }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
+    sortUnique(next);
     todo.swap(next);
   }
   const std::size_t before = this->Inserted;
@@ -970,17 +979,10 @@ std::size_t Refiner::dissolveCorners()
         ++count[bestRegion];
         ++total;
         next.push_back(t); // it may have a sharp corner in its new region
-        for (int n : this->Nbr[t])
-        {
-          if (n >= 0)
-          {
-            next.push_back(n);
-          }
-        }
+        this->appendNeighbours(t, next);
       }
     }
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end()), next.end());
+    sortUnique(next);
     todo.swap(next);
   }
   if (total > 0)
@@ -1033,8 +1035,7 @@ std::size_t Refiner::smoothBad()
         todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
       }
     }
-    std::sort(todo.begin(), todo.end());
-    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    sortUnique(todo);
     std::size_t moved = 0;
     std::vector<int> link, ends, regions;
     std::vector<Vec2> candidates;
@@ -1070,8 +1071,7 @@ std::size_t Refiner::smoothBad()
       }
       for (std::vector<int>* list : { &link, &ends, &regions })
       {
-        std::sort(list->begin(), list->end());
-        list->erase(std::unique(list->begin(), list->end()), list->end());
+        sortUnique(*list);
       }
       const bool free = ends.empty() && regions.size() == 1 && regions[0] >= 0;
       const bool boundary =
