@@ -205,8 +205,10 @@ public:
    * the input curves). Insertions never go below the grid's finest edge (MinimumEdgeLength
    * when set) and never leave the region; the corners of a region sharper than this stay. Of
    * a bold and a cautious run (the latter never lowers any local smallest angle) the one with
-   * the larger smallest angle is kept, so the result is never worse than without it. The field
-   * data RefinementVertices counts the vertices inserted. Above 30 the bound is reached less
+   * the larger smallest angle is kept, so the refinement never makes the mesh worse (the curve
+   * recovery before it can, where it brings back a layer); then the vertices of the triangles
+   * still below this are smoothed (boundary ones slide on their curves). The field data
+   * RefinementVertices counts the vertices inserted. Above 30 the bound is reached less
    * often (Delaunay refinement is known to end only up to about 33 degrees). Degrees, range
    * [0, 34]; default 30; 0 turns the refinement off.
    */
