@@ -54,18 +54,6 @@ inline double minAngleSine(Vec2 a, Vec2 b, Vec2 c)
   return shortest > 0.0 ? std::fabs(orient2d(a, b, c)) / std::sqrt(product) : 0.0;
 }
 
-// Cosine of the largest angle of abc (decreasing in the angle).
-inline double largestAngleCosine(Vec2 a, Vec2 b, Vec2 c)
-{
-  const auto cosAt = [](Vec2 p, Vec2 q, Vec2 r)
-  {
-    const Vec2 u = q - p, v = r - p;
-    const double n = norm(u) * norm(v);
-    return n > 0.0 ? dot(u, v) / n : 1.0;
-  };
-  return std::min({ cosAt(a, b, c), cosAt(b, c, a), cosAt(c, a, b) });
-}
-
 // Vertex states during the simulation.
 enum State : std::uint8_t
 {

@@ -85,6 +85,7 @@
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
+#include "Quality.h"
 
 #include <algorithm>
 #include <cmath>
@@ -895,13 +896,12 @@ double Refiner::cornerAngle(int t) const
   }
   double angle = 180.0;
   const auto& tri = this->M.triangles[t];
+  const auto angles = triangleAngles(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
   for (int i = 0; i < 3; ++i)
   {
     if (this->constrained(t, i) && this->constrained(t, (i + 2) % 3))
     {
-      const Vec2 o = this->X(tri[i]);
-      const Vec2 u = this->X(tri[(i + 1) % 3]) - o, v = this->X(tri[(i + 2) % 3]) - o;
-      angle = std::min(angle, std::atan2(std::fabs(cross(u, v)), dot(u, v)) * 180.0 / kPi);
+      angle = std::min(angle, angles[i]);
     }
   }
   return angle;
@@ -1009,12 +1009,7 @@ double Refiner::starCosine(const int* first, const int* last, double& largest) c
     if (this->M.region[*it] >= 0)
     {
       worst = std::max(worst, this->smallestAngleCosine(tri));
-      // The largest angle lies opposite the longest edge.
-      const double l0 = norm2(b - a), l1 = norm2(c - b), l2 = norm2(a - c);
-      const double cosine = l0 >= l1 && l0 >= l2 ? (l1 + l2 - l0) / (2.0 * std::sqrt(l1 * l2))
-        : l1 >= l2                               ? (l0 + l2 - l1) / (2.0 * std::sqrt(l0 * l2))
-                                                 : (l0 + l1 - l2) / (2.0 * std::sqrt(l0 * l1));
-      largest = std::min(largest, cosine);
+      largest = std::min(largest, largestAngleCosine(a, b, c));
     }
   }
   return worst;

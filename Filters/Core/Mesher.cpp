@@ -255,6 +255,8 @@ void refineCompressed(CompressionResult& compressed,
       ? grid.params().minEdgeLength
       : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
   }
+  const auto separates = [](const BoundaryRails::Chain& c, int left, int right)
+  { return (c.left == left && c.right == right) || (c.left == right && c.right == left); };
   const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
   {
     double d = 0.0;
@@ -270,7 +272,7 @@ void refineCompressed(CompressionResult& compressed,
     // The curve that separates the edge's two regions; with the curve recovery also one that
     // separates one of them from a third, a layer the mesh lost beside the edge (the split
     // brings its triangles down to where the second pass recovers the layer).
-    const bool same = (c.left == left && c.right == right) || (c.left == right && c.right == left);
+    const bool same = separates(c, left, right);
     const bool shares = c.left == left || c.left == right || c.right == left || c.right == right;
     if (ends || d > 0.5 * norm(b - a) || !(same || (params.curveRecovery && shares)))
     {
@@ -295,8 +297,7 @@ void refineCompressed(CompressionResult& compressed,
     }
     const BoundaryRails::Chain& c = rails.chain(l.chain);
     const int point = rails.pointAt(l);
-    if (!((c.left == left && c.right == right) || (c.left == right && c.right == left)) ||
-      (point >= 0 && rails.isStop(l.chain, point)))
+    if (!separates(c, left, right) || (point >= 0 && rails.isStop(l.chain, point)))
     {
       return false; // another curve's, or a junction or feature point: it stays
     }

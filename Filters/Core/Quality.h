@@ -5,6 +5,7 @@
 
 #include "Geometry.h"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -29,6 +30,19 @@ std::array<double, 3> triangleAngles(Vec2 a, Vec2 b, Vec2 c);
 
 /// Smallest angle of triangle abc in degrees (same conventions as triangleAngles).
 double minimumAngle(Vec2 a, Vec2 b, Vec2 c);
+
+/// Cosine of the largest angle of abc (decreasing in the angle; 1 at a zero-length edge's
+/// ends), cheaper than triangleAngles where only comparisons are needed.
+inline double largestAngleCosine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const auto cosAt = [](Vec2 p, Vec2 q, Vec2 r)
+  {
+    const Vec2 u = q - p, v = r - p;
+    const double n = norm(u) * norm(v);
+    return n > 0.0 ? dot(u, v) / n : 1.0;
+  };
+  return std::min({ cosAt(a, b, c), cosAt(b, c, a), cosAt(c, a, b) });
+}
 
 /// All quality measures of triangle abc.
 TriangleQuality triangleQuality(Vec2 a, Vec2 b, Vec2 c);
