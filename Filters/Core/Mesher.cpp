@@ -173,6 +173,7 @@ void refineCompressed(CompressionResult& compressed,
   MesherResult& result)
 {
   StripTreeScratch scratch;
+  const double onCurveTolerance = 1e-9 * model.size(); // a point this close lies on a curve
   // The closest curve point, remembered for the last point asked: the refinement asks about a
   // triangle's centroid several times in a row.
   struct
@@ -195,7 +196,7 @@ void refineCompressed(CompressionResult& compressed,
     return last.location;
   };
   if (compressed.offCurveBoundaryVertices > 0 &&
-    snapStrayBoundaryVertices(compressed, rails, scratch, 1e-9 * model.size()) ==
+    snapStrayBoundaryVertices(compressed, rails, scratch, onCurveTolerance) ==
       compressed.offCurveBoundaryVertices)
   {
     // The compression's warning counted them; they are all on a curve now.
@@ -244,7 +245,7 @@ void refineCompressed(CompressionResult& compressed,
         regionOf(g) != compressed.triangleRegion[t];
     }
     snapStrayBoundaryVertices(
-      compressed, rails, scratch, 1e-9 * model.size(), [&](int t) { return wrong[t] != 0; });
+      compressed, rails, scratch, onCurveTolerance, [&](int t) { return wrong[t] != 0; });
   }
   RefinementParams rp = params.refinement;
   if (!(rp.minimumEdgeLength > 0.0))
@@ -291,7 +292,7 @@ void refineCompressed(CompressionResult& compressed,
   {
     double d = 0.0;
     const BoundaryRails::Location l = closest(from, &d);
-    if (l.chain < 0 || d > 1e-9 * model.size())
+    if (l.chain < 0 || d > onCurveTolerance)
     {
       return false;
     }
@@ -311,7 +312,7 @@ void refineCompressed(CompressionResult& compressed,
     {
       double d = 0.0;
       closest(p, &d);
-      return d <= 1e-9 * model.size();
+      return d <= onCurveTolerance;
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
