@@ -202,8 +202,9 @@ public:
    * below this. The mesh is first flipped to constrained Delaunay (region boundaries are never
    * flipped); then the off-centre of each bad triangle is inserted, or, when it would encroach
    * a region boundary edge, that edge is split at its curve point (new boundary vertices lie on
-   * the input curves). Insertions never go below the grid's finest edge (MinimumEdgeLength
-   * when set) and never leave the region; the corners of a region sharper than this stay. Of
+   * the input curves). Triangles whose shortest edge is below half the grid's finest edge
+   * (MinimumEdgeLength when set) are left, boundary edges shorter than it are not split, and
+   * insertions never leave the region; the corners of a region sharper than this stay. Of
    * a bold and a cautious run (the latter never lowers any local smallest angle) the one with
    * the larger smallest angle is kept, so the refinement never makes the mesh worse (the curve
    * recovery before it can, where it brings back a layer); then the vertices of the triangles

@@ -22,7 +22,7 @@ struct RefinementParams
   /// (the mesh is still flipped to constrained Delaunay).
   double minimumAngle = 30.0;
   /// Model units (> 0 finite, or 0 for no floor). A bad triangle whose shortest edge is
-  /// shorter than this is left as it is, and a region boundary edge shorter than twice this is
+  /// shorter than half this is left as it is, and a region boundary edge shorter than this is
   /// not split: the floor that ends the refinement where the input itself is finer (curves
   /// closer than this, small input angles).
   double minimumEdgeLength = 0.0;

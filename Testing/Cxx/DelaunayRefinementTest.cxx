@@ -457,6 +457,26 @@ TEST(DelaunayRefinementTest, FloorsExteriorAndRefusedSplitsStopTheRefinement)
   }
 }
 
+// The refinement goes down to half minimumEdgeLength: the strip's triangles, whose shortest
+// edges (its height, 1) are below minimumEdgeLength 1.5 but above half of it, are refined to
+// the bound; with minimumEdgeLength 3 (half of it above the height) they are left.
+TEST(DelaunayRefinementTest, TrianglesDownToHalfTheMinimumEdgeLengthAreRefined)
+{
+  RefinementParams p;
+  p.minimumEdgeLength = 1.5;
+  RegionMesh m = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+  const RefinementResult fine = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(fine.badTrianglesLeft, 0u);
+  EXPECT_GE(meshMinimumAngle(m), 30.0 - 1e-9);
+  p.minimumEdgeLength = 3.0;
+  RegionMesh coarse = bands({ -10.0, 0.0, 1.0, 11.0 }, 100.0, 10.0);
+  const RefinementResult left = strata::refineDelaunay(coarse, middle, p);
+  expectValid(coarse);
+  EXPECT_GT(left.badTrianglesLeft, 0u);
+  EXPECT_LT(meshMinimumAngle(coarse), 30.0);
+}
+
 // The insertion budget caps the work: 1000 vertices (budget 0 x triangles + 1000) on a strip
 // that needs more.
 TEST(DelaunayRefinementTest, TheInsertionBudgetCapsTheVerticesInserted)

@@ -404,9 +404,9 @@ const DefaultCase kDefaultCases[] = {
   { "salt_dome_loops.vtp", 25, 130, 95 },
   { "pinch_out.vtp", 25, 130, 95 },
   { "lake_superior.vtp", 25, 130, 95 },
-  { "gulf_section.vtp", 22.5, 130, 95 }, // below: measured floors (known gaps)
-  { "gulf_section_loops.vtp", 21, 130, 95 },
-  { "geology_marmousi.vtp", 12.5, 142.5, 95 },
+  { "gulf_section.vtp", 25, 130, 95 },
+  { "gulf_section_loops.vtp", 25, 130, 95 },
+  { "geology_marmousi.vtp", 12.5, 142.5, 95 }, // below: measured floors (known gaps)
   { "thin_layer.vtp", 12.5, 154.5, 95 },
 };
 
