@@ -33,6 +33,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace strata
@@ -158,6 +159,11 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
 }
 
 constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
+// The curve recovery's retry (see triangulate()): when a region's area is off by more than
+// this, or a triangle is below MinimumAngle - kRetryAngleSlack degrees, with this margin scale.
+constexpr double kRetryAreaError = 0.0005;
+constexpr double kRetryAngleSlack = 0.05;
+constexpr double kRetryMarginScale = 0.5;
 
 // The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
@@ -169,6 +175,7 @@ void refineCompressed(CompressionResult& compressed,
   const Grid48& grid,
   const BoundaryRails& rails,
   const MesherParams& params,
+  double marginScale,
   const ProgressReporter& progress,
   MesherResult& result)
 {
@@ -318,12 +325,12 @@ void refineCompressed(CompressionResult& compressed,
     {
       // Of the curve points nearest the centroid and nearest the midpoints between it and
       // the corners, the one farthest inside, if it lies at least margin = max(2% of the
-      // longest edge, the refinement's minimum edge length) from every side, and the regions
-      // 2 margins away on both sides of its curve are that curve's (no layer thinner than that
-      // beside it: a pinch-out's tip is not brought back, its neighbours keep it).
+      // longest edge, marginScale x the refinement's minimum edge length) from every side, and the
+      // regions 2 margins away on both sides of its curve are that curve's (no layer thinner than
+      // that beside it: a pinch-out's tip is not brought back, its neighbours keep it).
       const Vec2 g = (1.0 / 3.0) * (a + b + c);
       const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-      const double margin = std::max(rp.minimumEdgeLength, 0.02 * longest);
+      const double margin = std::max(marginScale * rp.minimumEdgeLength, 0.02 * longest);
       const double inradius = orient2d(a, b, c) / (norm(b - a) + norm(c - b) + norm(a - c));
       if (inradius <= margin)
       {
@@ -407,6 +414,45 @@ double ringArea(const Ring& ring)
   return 0.5 * sum;
 }
 } // namespace
+
+// What the retry of the curve recovery compares: the smallest angle of the region triangles
+// and the largest relative error of a region's area.
+struct RefinedOutcome
+{
+  double minAngle = 180.0;
+  double areaError = 0.0;
+};
+
+RefinedOutcome refinedOutcome(const CompressionResult& mesh, const Model& model)
+{
+  RefinedOutcome o;
+  std::vector<double> area(model.regions.size(), 0.0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+  {
+    const int index = model.regionIndex(mesh.triangleRegion[t]);
+    if (index < 0)
+    {
+      continue;
+    }
+    const auto& tri = mesh.triangles[t];
+    const Vec2 a = mesh.points[tri[0]], b = mesh.points[tri[1]], c = mesh.points[tri[2]];
+    o.minAngle = std::min(o.minAngle, minimumAngle(a, b, c));
+    area[index] += 0.5 * orient2d(a, b, c);
+  }
+  for (std::size_t r = 0; r < model.regions.size(); ++r)
+  {
+    double exact = 0.0;
+    for (const Ring& ring : model.regions[r].rings)
+    {
+      exact += ringArea(ring);
+    }
+    if (exact > 0.0)
+    {
+      o.areaError = std::max(o.areaError, std::fabs(area[r] - exact) / exact);
+    }
+  }
+  return o;
+}
 
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
   const std::vector<std::array<int, 3>>& triangles,
@@ -597,8 +643,46 @@ MesherResult triangulate(const RawPolylines& input,
 
   if (params.compression.optimize && params.refinement.minimumAngle > 0.0)
   {
+    // With the curve recovery, a mesh that misses the bounds (a triangle below MinimumAngle,
+    // or a region's area off by more than kRetryAreaError) is refined once more from the same
+    // compressed mesh with half the recovery margin, which brings back layers and small
+    // regions down to about one finest edge across. Thinner layers are also where recovered
+    // layers end in sharp corners, so the better of the two is kept: the larger smallest
+    // angle (up to MinimumAngle), then the smaller area error.
+    std::optional<CompressionResult> retry;
+    if (params.curveRecovery)
+    {
+      retry = compressed;
+    }
+    MesherResult first;
     refineCompressed(
-      compressed, model, field, grid, rails, params, progress.sub(0.9, 0.95), result);
+      compressed, model, field, grid, rails, params, 1.0, progress.sub(0.9, 0.93), first);
+    const double target = params.refinement.minimumAngle - kRetryAngleSlack;
+    const RefinedOutcome o1 = refinedOutcome(compressed, model);
+    if (retry && (o1.minAngle < target || o1.areaError > kRetryAreaError))
+    {
+      MesherResult second;
+      refineCompressed(*retry,
+        model,
+        field,
+        grid,
+        rails,
+        params,
+        kRetryMarginScale,
+        progress.sub(0.93, 0.95),
+        second);
+      const RefinedOutcome o2 = refinedOutcome(*retry, model);
+      const double a1 = std::min(o1.minAngle, target), a2 = std::min(o2.minAngle, target);
+      if (a2 > a1 + kRetryAngleSlack ||
+        (a2 >= a1 - kRetryAngleSlack && o2.areaError < o1.areaError))
+      {
+        compressed = std::move(*retry);
+        first = std::move(second);
+      }
+    }
+    result.summary.refinementVertices = first.summary.refinementVertices;
+    result.summary.curveVertices = first.summary.curveVertices;
+    result.warnings.insert(result.warnings.end(), first.warnings.begin(), first.warnings.end());
     const Clock::time_point now = Clock::now();
     result.summary.secondsPerStage.push_back(
       { "refinement", std::chrono::duration<double>(now - t0).count() });
