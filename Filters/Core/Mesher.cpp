@@ -423,12 +423,18 @@ struct RefinedOutcome
   double areaError = 0.0;
 };
 
-RefinedOutcome refinedOutcome(const CompressionResult& mesh, const Model& model)
+RefinedOutcome refinedOutcome(const CompressionResult& mesh,
+  const Model& model,
+  const ProgressReporter& progress)
 {
   RefinedOutcome o;
   std::vector<double> area(model.regions.size(), 0.0);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
   {
+    if ((t & 16383) == 0)
+    {
+      progress.report(1.0, "refining toward the minimum angle");
+    }
     const int index = model.regionIndex(mesh.triangleRegion[t]);
     if (index < 0)
     {
@@ -658,7 +664,7 @@ MesherResult triangulate(const RawPolylines& input,
     refineCompressed(
       compressed, model, field, grid, rails, params, 1.0, progress.sub(0.9, 0.93), first);
     const double target = params.refinement.minimumAngle - kRetryAngleSlack;
-    const RefinedOutcome o1 = refinedOutcome(compressed, model);
+    const RefinedOutcome o1 = refinedOutcome(compressed, model, progress.sub(0.9, 0.93));
     if (retry && (o1.minAngle < target || o1.areaError > kRetryAreaError))
     {
       MesherResult second;
@@ -671,7 +677,7 @@ MesherResult triangulate(const RawPolylines& input,
         kRetryMarginScale,
         progress.sub(0.93, 0.95),
         second);
-      const RefinedOutcome o2 = refinedOutcome(*retry, model);
+      const RefinedOutcome o2 = refinedOutcome(*retry, model, progress.sub(0.93, 0.95));
       const double a1 = std::min(o1.minAngle, target), a2 = std::min(o2.minAngle, target);
       if (a2 > a1 + kRetryAngleSlack ||
         (a2 >= a1 - kRetryAngleSlack && o2.areaError < o1.areaError))
