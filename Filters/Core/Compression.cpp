@@ -323,9 +323,10 @@ BoundaryRails::BoundaryRails(const Model& model, double featureAngle)
 
 BoundaryRails::Location BoundaryRails::closest(Vec2 p,
   StripTreeScratch& scratch,
-  double* distance) const
+  double* distance,
+  double maxDistance) const
 {
-  const NearestSegment s = this->Tree.nearest(p, scratch);
+  const NearestSegment s = this->Tree.nearest(p, scratch, maxDistance);
   Location l;
   if (s.segment >= 0)
   {

@@ -130,8 +130,13 @@ public:
   const Chain& chain(int i) const { return this->Chains[i]; }
   std::size_t numberOfSegments() const { return this->Tree.numberOfSegments(); }
 
-  /// Closest boundary point to p (distance in *distance when given).
-  Location closest(Vec2 p, StripTreeScratch& scratch, double* distance = nullptr) const;
+  /// Closest boundary point to p (distance in *distance when given). With maxDistance, only
+  /// points nearer than it are looked for (chain -1 and *distance maxDistance when there is
+  /// none; much faster for far points).
+  Location closest(Vec2 p,
+    StripTreeScratch& scratch,
+    double* distance = nullptr,
+    double maxDistance = HUGE_VAL) const;
   Vec2 position(const Location& l) const;
   /// Unit direction of the location's segment (chain direction).
   Vec2 tangent(const Location& l) const;

@@ -868,9 +868,8 @@ bool Refiner::retag(int t)
   const auto& tri = this->M.triangles[t];
   const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
   const Vec2 g = (1.0 / 3.0) * (a + b + c);
-  if (!this->Live[t] ||
-    (this->P.curveDistance &&
-      this->P.curveDistance(g) > std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }))))
+  const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+  if (!this->Live[t] || (this->P.curveDistance && this->P.curveDistance(g, longest) >= longest))
   {
     return false; // no curve runs near it: its region is its neighbours'
   }
@@ -1094,7 +1093,8 @@ std::size_t Refiner::smoothBad()
         for (int e : ends)
         {
           worst = std::max(worst,
-            this->P.curveDistance(0.5 * (this->X(e) + this->X(v))) / norm(this->X(e) - this->X(v)));
+            this->P.curveDistance(0.5 * (this->X(e) + this->X(v)), HUGE_VAL) /
+              norm(this->X(e) - this->X(v)));
         }
         return worst;
       };

@@ -48,10 +48,13 @@ struct RefinementParams
   /// or only free vertices move): curveSlide moves the vertex at `from`, on the curve that
   /// separates regions `left` and `right`, along that curve toward `toward` and returns true
   /// with the point reached in `at`, or returns false when the vertex may not move (a
-  /// junction, a feature point, not on such a curve); curveDistance is the distance from a
-  /// point to the nearest model curve (a slid vertex's boundary edges may not leave them).
+  /// junction, a feature point, not on such a curve); curveDistance(p, within) is the distance
+  /// from p to the nearest model curve when that is below `within`, else any value >= within
+  /// (a slid vertex's boundary edges may not leave the curves; the curve recovery's retag
+  /// skips triangles farther than their longest edge from every curve, and asks with that
+  /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
-  std::function<double(Vec2 p)> curveDistance;
+  std::function<double(Vec2 p, double within)> curveDistance;
 };
 
 /// Throws ParameterError naming the parameter and its range.

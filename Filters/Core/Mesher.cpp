@@ -202,6 +202,32 @@ void refineCompressed(CompressionResult& compressed,
     }
     return last.location;
   };
+  // The closest curve point if it lies nearer than r, else chain -1 (*distance r): a point far
+  // from every curve prunes the whole strip tree at once. A found one is remembered as above.
+  const auto within = [&](Vec2 p, double r, double* distance)
+  {
+    if (p == last.p)
+    {
+      if (distance)
+      {
+        *distance = std::min(last.distance, r);
+      }
+      return last.distance < r ? last.location : BoundaryRails::Location{};
+    }
+    double d = r;
+    const BoundaryRails::Location l = rails.closest(p, scratch, &d, r);
+    if (l.chain >= 0)
+    {
+      last.p = p;
+      last.location = l;
+      last.distance = d;
+    }
+    if (distance)
+    {
+      *distance = d;
+    }
+    return l;
+  };
   if (compressed.offCurveBoundaryVertices > 0 &&
     snapStrayBoundaryVertices(compressed, rails, scratch, onCurveTolerance) ==
       compressed.offCurveBoundaryVertices)
@@ -246,10 +272,9 @@ void refineCompressed(CompressionResult& compressed,
       const Vec2 a = compressed.points[tri[0]], b = compressed.points[tri[1]],
                  c = compressed.points[tri[2]];
       const Vec2 g = (1.0 / 3.0) * (a + b + c);
-      double d = 0.0;
-      closest(g, &d);
-      wrong[t] = d <= std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) })) &&
-        regionOf(g) != compressed.triangleRegion[t];
+      const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+      wrong[t] =
+        within(g, longest, nullptr).chain >= 0 && regionOf(g) != compressed.triangleRegion[t];
     }
     snapStrayBoundaryVertices(
       compressed, rails, scratch, onCurveTolerance, [&](int t) { return wrong[t] != 0; });
@@ -289,10 +314,10 @@ void refineCompressed(CompressionResult& compressed,
     at = rails.position(l);
     return true;
   };
-  rp.curveDistance = [&](Vec2 p)
+  rp.curveDistance = [&](Vec2 p, double r)
   {
     double d = 0.0;
-    closest(p, &d);
+    within(p, r, &d);
     return d;
   };
   rp.curveSlide = [&](Vec2 from, Vec2 toward, int left, int right, Vec2& at)
@@ -318,8 +343,7 @@ void refineCompressed(CompressionResult& compressed,
     rp.onCurve = [&](Vec2 p)
     {
       double d = 0.0;
-      closest(p, &d);
-      return d <= onCurveTolerance;
+      return within(p, 2.0 * onCurveTolerance, &d).chain >= 0 && d <= onCurveTolerance;
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
@@ -336,9 +360,7 @@ void refineCompressed(CompressionResult& compressed,
       {
         return false; // no point of it lies that far inside
       }
-      double d = 0.0;
-      closest(g, &d);
-      if (d > longest)
+      if (within(g, longest, nullptr).chain < 0)
       {
         return false; // no curve comes near the triangle
       }

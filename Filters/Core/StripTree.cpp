@@ -408,7 +408,7 @@ void StripTree::build()
   }
 }
 
-NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
+NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch, double maxDistance) const
 {
   NearestSegment best;
   const std::int64_t n = static_cast<std::int64_t>(this->A.size());
@@ -419,7 +419,7 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch) const
   const Vec2* a = this->A.data();
   const Vec2* b = this->B.data();
 
-  double best2 = HUGE_VAL;
+  double best2 = maxDistance < HUGE_VAL ? maxDistance * maxDistance : HUGE_VAL;
   int bestSeg = -1;
   double bestT = 0.0;
   auto scan = [&](int first, int end)

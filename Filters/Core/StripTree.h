@@ -5,6 +5,7 @@
 
 #include "Geometry.h"
 
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -44,8 +45,10 @@ public:
   Vec2 segmentEnd(int i) const { return this->B[i]; }
 
   /// Exact closest segment to p (ties: any of them). Does not allocate once the scratch has
-  /// grown to its working size.
-  NearestSegment nearest(Vec2 p, StripTreeScratch& scratch) const;
+  /// grown to its working size. With maxDistance, only segments nearer than it are looked
+  /// for (segment -1 and distance2 maxDistance^2 when there is none): far queries then prune
+  /// the whole tree at once.
+  NearestSegment nearest(Vec2 p, StripTreeScratch& scratch, double maxDistance = HUGE_VAL) const;
 
   /// Number of nodes of the binary tree down to single segments: 2 n - 1 for n > 0 segments
   /// (for tests and reports). Only the upper levels are stored, about 12 bytes per segment:

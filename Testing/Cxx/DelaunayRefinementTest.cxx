@@ -252,7 +252,7 @@ TEST(DelaunayRefinementTest, SmoothingSlidesBoundaryVerticesOnTheirCurveAndMoves
   };
   RefinementParams p;
   p.minimumEdgeLength = 100.0; // nothing inserted, nothing split
-  p.curveDistance = [](Vec2 q)
+  p.curveDistance = [](Vec2 q, double)
   {
     return std::min({ std::fabs(q.y - 5.0),
       std::fabs(q.y),

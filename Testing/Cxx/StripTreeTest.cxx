@@ -425,6 +425,33 @@ TEST(StripTreeTest, nearest_equals_brute_force_far_outside)
   }
 }
 
+TEST(StripTreeTest, bounded_query_finds_the_nearest_within_its_radius_and_nothing_beyond)
+{
+  // With maxDistance r: the exact nearest when it is nearer than r, else segment -1; r at
+  // 0.5, 1 and 2 times the true distance of each random point.
+  std::mt19937_64 rng(7);
+  for (const std::string& name : { "lake_superior_full.vtp", "geology_marmousi.vtp" })
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    const StripTree tree(s.a, s.b);
+    StripTreeScratch scratch;
+    std::size_t wrong = 0;
+    for (const Vec2 p : randomPoints(s.box, 0.1, 20000, rng))
+    {
+      const double d2 = plainBruteForce2(s, p);
+      for (const double f : { 0.5, 1.0, 2.0 })
+      {
+        const double r = f * std::sqrt(d2);
+        const strata::NearestSegment n = tree.nearest(p, scratch, r);
+        const bool nearer = d2 < r * r;
+        wrong += nearer ? (n.segment < 0 || n.distance2 != d2) : n.segment >= 0;
+      }
+    }
+    EXPECT_EQ(wrong, 0u);
+  }
+}
+
 TEST(StripTreeTest, nearest_is_zero_on_vertices_and_segment_interiors)
 {
   // Every vertex (distance exactly 0) and a point inside every segment (distance 0 or a
