@@ -31,7 +31,9 @@
 //    edges (not the mesh's outer border) when that raises the smallest such corner angle of
 //    it and its neighbours (new boundary edges must join vertices on curves; no region loses
 //    its last triangle). The layer then ends where it is about as thick as its triangles,
-//    cleanly.
+//    cleanly. A speck (a triangle with no neighbour of its own region, thinner than
+//    minimumEdgeLength: a sliver a retag left between other regions) is treated so whatever
+//    its length, and may also go beyond the mesh's outer border.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
@@ -945,8 +947,17 @@ std::size_t Refiner::dissolveCorners()
       const int old = this->M.region[t];
       const auto& tri = this->M.triangles[t];
       const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+      // A speck: no neighbour of its own region, and thinner than minimumEdgeLength (a
+      // sliver a retag left between other regions or the border); any size.
+      bool isolated = true;
+      for (int n : this->Nbr[t])
+      {
+        isolated = isolated && (n < 0 || this->M.region[n] != old);
+      }
+      const bool speck = isolated &&
+        orient2d(a, b, c) < this->P.minimumEdgeLength * (norm(b - a) + norm(c - b) + norm(a - c));
       if (old < 0 || !this->Live[t] || count[old] <= 1 ||
-        std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2 ||
+        (!speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2) ||
         this->cornerAngle(t) >= this->P.minimumAngle)
       {
         continue;
@@ -956,11 +967,11 @@ std::size_t Refiner::dissolveCorners()
       for (int k = 0; k < 3; ++k)
       {
         const int n = this->Nbr[t][k];
-        if (n < 0 || this->M.region[n] == old || !this->Live[n])
+        if ((n < 0 && !speck) || (n >= 0 && (this->M.region[n] == old || !this->Live[n])))
         {
-          continue; // the mesh's outer border: nothing beyond
+          continue; // the mesh's outer border: nothing beyond (but a speck goes there)
         }
-        const int r = this->M.region[n];
+        const int r = n >= 0 ? this->M.region[n] : -1;
         this->M.region[t] = r;
         bool keepsCurves = true; // its new boundary edges join vertices on curves
         for (int j = 0; j < 3 && keepsCurves; ++j)

@@ -344,6 +344,47 @@ TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
   EXPECT_NEAR(regionAreas(alone).at(1), 5.0 * tip, 1e-9);
 }
 
+// A speck, a region triangle with no neighbour of its own region and thinner than
+// minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
+// (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
+// minimumEdgeLength 0.5 up to which corners are dissolved); region 2 keeps its other piece, a
+// 10 x 10 triangle in region 1. With minimumEdgeLength 0.01 it is no speck (its inradius is
+// 0.45) and too long: it stays.
+TEST(DelaunayRefinementTest, SpecksOfARegionGoToTheirNeighbours)
+{
+  RefinementParams p;
+  p.onCurve = [](Vec2) { return true; };
+  p.regionAt = [](Vec2 q) { return q.y < 1.0 ? 0 : 1; };
+  const auto speck = []()
+  {
+    RegionMesh m = bands({ 0.0, 1.0, 11.0 }, 100.0, 10.0);
+    m.region[8] = 2;  // (40, 0), (50, 0), (50, 1)
+    m.region[30] = 2; // in region 1
+    return m;
+  };
+  p.minimumEdgeLength = 0.5;
+  RegionMesh m = speck();
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.dissolvedCorners, 0u);
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    const auto& tri = m.triangles[t];
+    const double y = (m.points[tri[0]].y + m.points[tri[1]].y + m.points[tri[2]].y) / 3.0;
+    EXPECT_TRUE(m.region[t] != 2 || y > 1.0) << "triangle " << t; // only the other piece
+  }
+  const std::map<int, double> a = regionAreas(m);
+  EXPECT_GE(a.at(0), 95.0 - 1e-9); // the strip, with the speck's 5 or without
+  EXPECT_LE(a.at(0), 100.0 + 1e-9);
+  EXPECT_NEAR(a.at(1), 950.0, 1e-9);
+  EXPECT_NEAR(a.at(2), 50.0, 1e-9);
+
+  p.minimumEdgeLength = 0.01;
+  RegionMesh kept = speck();
+  strata::refineDelaunay(kept, middle, p);
+  EXPECT_NEAR(regionAreas(kept).at(2), 55.0, 1e-9);
+}
+
 // With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
 // the region boundary edges (here the line x = 50 between two regions, and the border) are the
 // same, no edge inside a region has its opposite vertex inside the other circumcircle, and the
