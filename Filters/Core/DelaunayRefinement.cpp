@@ -31,8 +31,9 @@
 //    edges (not the mesh's outer border) when that raises the smallest such corner angle of
 //    it and its neighbours (new boundary edges must join vertices on curves; no region loses
 //    its last triangle). The layer then ends where it is about as thick as its triangles,
-//    cleanly. A speck (a triangle with no neighbour of its own region, thinner than
-//    minimumEdgeLength: a sliver a retag left between other regions) is treated so whatever
+//    cleanly. A speck (a triangle with no neighbour of its own region and an inradius below
+//    minimumEdgeLength, or with one and an inradius below half of it: a sliver a retag left
+//    between other regions, or hanging from its region into another) is treated so whatever
 //    its length, and may also go beyond the mesh's outer border.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
@@ -947,15 +948,18 @@ std::size_t Refiner::dissolveCorners()
       const int old = this->M.region[t];
       const auto& tri = this->M.triangles[t];
       const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-      // A speck: no neighbour of its own region, and thinner than minimumEdgeLength (a
-      // sliver a retag left between other regions or the border); any size.
-      bool isolated = true;
+      // A speck: no neighbour of its own region and an inradius below minimumEdgeLength, or
+      // one such neighbour and an inradius below half of it (a sliver a retag left between
+      // other regions, or hanging from its region into another); any length.
+      int own = 0;
       for (int n : this->Nbr[t])
       {
-        isolated = isolated && (n < 0 || this->M.region[n] != old);
+        own += n >= 0 && this->M.region[n] == old;
       }
-      const bool speck = isolated &&
-        orient2d(a, b, c) < this->P.minimumEdgeLength * (norm(b - a) + norm(c - b) + norm(a - c));
+      const double twiceArea = orient2d(a, b, c),
+                   perimeter = norm(b - a) + norm(c - b) + norm(a - c);
+      const bool speck = (own == 0 && twiceArea < this->P.minimumEdgeLength * perimeter) ||
+        (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
       if (old < 0 || !this->Live[t] || count[old] <= 1 ||
         (!speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2) ||
         this->cornerAngle(t) >= this->P.minimumAngle)

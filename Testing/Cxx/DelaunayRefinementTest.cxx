@@ -344,7 +344,7 @@ TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
   EXPECT_NEAR(regionAreas(alone).at(1), 5.0 * tip, 1e-9);
 }
 
-// A speck, a region triangle with no neighbour of its own region and thinner than
+// A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
 // minimumEdgeLength 0.5 up to which corners are dissolved); region 2 keeps its other piece, a
@@ -383,6 +383,34 @@ TEST(DelaunayRefinementTest, SpecksOfARegionGoToTheirNeighbours)
   RegionMesh kept = speck();
   strata::refineDelaunay(kept, middle, p);
   EXPECT_NEAR(regionAreas(kept).at(2), 55.0, 1e-9);
+
+  // A 2-degree spike of region 1, 100 long, hanging from one triangle of its region: with one
+  // neighbour of its region it is a speck only below half minimumEdgeLength (inradius 1.7 <
+  // 2.5 with minimumEdgeLength 5, though longer than the corners of 16 x 5; with 2 it is
+  // neither and stays).
+  const double rise = 100.0 * std::tan(2.0 * kPi / 180.0);
+  const auto spike = [&]()
+  {
+    RegionMesh m;
+    m.points = {
+      { 0, 0 }, { 100, 0 }, { 100, rise }, { 0, 100 }, { 100, 100 }, { 150, 0.5 * rise }
+    };
+    m.triangles = { { 0, 1, 2 }, { 1, 5, 2 }, { 0, 2, 4 }, { 0, 4, 3 } };
+    m.region = { 1, 1, 0, 0 };
+    m.level.assign(4, 0);
+    return m;
+  };
+  const double base = 25.0 * rise, wedge = 50.0 * rise;
+  p.regionAt = [&](Vec2 q) { return q.x > 100.0 || q.y < q.x * rise / 100.0 ? 1 : 0; };
+  p.minimumEdgeLength = 5.0;
+  RegionMesh gone = spike();
+  strata::refineDelaunay(gone, middle, p);
+  expectValid(gone);
+  EXPECT_NEAR(regionAreas(gone).at(1), base, 1e-9);
+  p.minimumEdgeLength = 2.0;
+  RegionMesh stays = spike();
+  strata::refineDelaunay(stays, middle, p);
+  EXPECT_NEAR(regionAreas(stays).at(1), base + wedge, 1e-9);
 }
 
 // With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
