@@ -435,7 +435,17 @@ double ringArea(const Ring& ring)
   }
   return 0.5 * sum;
 }
-} // namespace
+
+// A region's model area: its rings' signed areas (holes count negative).
+double regionArea(const Region& region)
+{
+  double sum = 0.0;
+  for (const Ring& ring : region.rings)
+  {
+    sum += ringArea(ring);
+  }
+  return sum;
+}
 
 // What the retry of the curve recovery compares: the smallest angle of the region triangles
 // and the largest relative error of a region's area.
@@ -469,11 +479,7 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
   }
   for (std::size_t r = 0; r < model.regions.size(); ++r)
   {
-    double exact = 0.0;
-    for (const Ring& ring : model.regions[r].rings)
-    {
-      exact += ringArea(ring);
-    }
+    const double exact = regionArea(model.regions[r]);
     if (exact > 0.0)
     {
       o.areaError = std::max(o.areaError, std::fabs(area[r] - exact) / exact);
@@ -481,6 +487,7 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
   }
   return o;
 }
+} // namespace
 
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
   const std::vector<std::array<int, 3>>& triangles,
@@ -902,10 +909,7 @@ MesherResult triangulate(const RawPolylines& input,
   {
     MesherResult::RegionArea ra;
     ra.id = r.id;
-    for (const Ring& ring : r.rings)
-    {
-      ra.model += ringArea(ring);
-    }
+    ra.model = regionArea(r);
     result.regionAreas.push_back(ra);
   }
   for (std::size_t t = 0; t < result.triangles.size(); ++t)
