@@ -331,48 +331,44 @@ void Refiner::buildNeighbours()
 {
   const std::size_t nt = this->M.triangles.size();
   const PointStars stars = pointStars(this->M.points.size(), this->M.triangles);
-  const std::vector<int>& start = stars.start;
-  const std::vector<int>& items = stars.items;
   this->Nbr.assign(nt, { -1, -1, -1 });
-  for (std::size_t t = 0; t < nt; ++t)
+  // Each directed edge a -> b of a triangle is matched at a, in a's star: its neighbour is the
+  // star's triangle with the edge b -> a. A second triangle with either is not a manifold,
+  // consistently oriented mesh.
+  struct Corner
   {
-    this->poll();
-    const auto& tri = this->M.triangles[t];
-    for (int k = 0; k < 3; ++k)
+    int triangle, k, next, prev; // triangle[k] = a; its edge k runs a -> next, edge k+2 prev -> a
+  };
+  std::vector<Corner> star;
+  for (std::size_t a = 0; a + 1 < stars.start.size(); ++a)
+  {
+    star.clear();
+    for (int s = stars.start[a]; s < stars.start[a + 1]; ++s)
     {
-      const int a = tri[k], b = tri[(k + 1) % 3];
-      int found = 0;
-      for (int s = start[b]; s < start[b + 1]; ++s)
+      const int t = stars.items[s];
+      const auto& tri = this->M.triangles[t];
+      const int k = tri[0] == static_cast<int>(a) ? 0 : (tri[1] == static_cast<int>(a) ? 1 : 2);
+      star.push_back({ t, k, tri[(k + 1) % 3], tri[(k + 2) % 3] });
+    }
+    for (std::size_t i = 0; i < star.size(); ++i)
+    {
+      this->poll();
+      int found = 0, same = 0;
+      for (const Corner& c : star)
       {
-        const int u = items[s];
-        const auto& tu = this->M.triangles[u];
-        for (int j = 0; j < 3; ++j)
+        found += c.prev == star[i].next;
+        same += c.next == star[i].next;
+        if (c.prev == star[i].next)
         {
-          if (tu[j] == b && tu[(j + 1) % 3] == a)
-          {
-            this->Nbr[t][k] = u;
-            ++found;
-          }
-        }
-      }
-      int same = 0; // triangles with the edge in the same direction (t itself included)
-      for (int s = start[a]; s < start[a + 1]; ++s)
-      {
-        const auto& tu = this->M.triangles[items[s]];
-        for (int j = 0; j < 3; ++j)
-        {
-          same += tu[j] == a && tu[(j + 1) % 3] == b;
+          this->Nbr[star[i].triangle][star[i].k] = c.triangle;
         }
       }
       if (found > 1 || same > 1)
       {
         throw ParameterError("refineDelaunay: the edge from point " + std::to_string(a) +
-          " to point " + std::to_string(b) +
-          " belongs to more than two triangles or twice to "
-          "one side (triangle " +
-          std::to_string(t) +
-          "): not a manifold, consistently "
-          "oriented mesh");
+          " to point " + std::to_string(star[i].next) +
+          " belongs to more than two triangles or twice to one side (triangle " +
+          std::to_string(star[i].triangle) + "): not a manifold, consistently oriented mesh");
       }
     }
   }

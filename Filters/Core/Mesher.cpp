@@ -360,19 +360,25 @@ void refineCompressed(CompressionResult& compressed,
       {
         return false; // no point of it lies that far inside
       }
-      if (within(g, longest, nullptr).chain < 0)
+      // A curve point inside the triangle lies no farther from a probe inside it than the
+      // probe's farthest corner: the queries are bounded by that (a curve point beyond it lies
+      // outside the triangle, and the bound prunes most of the strip tree).
+      const auto reach = [&](Vec2 p) {
+        return std::sqrt(std::max({ norm2(a - p), norm2(b - p), norm2(c - p) }));
+      };
+      if (within(g, reach(g), nullptr).chain < 0)
       {
-        return false; // no curve comes near the triangle
+        return false; // no curve comes into the triangle
       }
       // The candidates by how far inside they lie; the first with no thin layer beside it.
       std::array<std::pair<double, BoundaryRails::Location>, 4> candidates;
       int n = 0;
       for (Vec2 probe : { g, 0.5 * (g + a), 0.5 * (g + b), 0.5 * (g + c) })
       {
-        const BoundaryRails::Location l = closest(probe, nullptr);
+        const BoundaryRails::Location l = within(probe, reach(probe), nullptr);
         if (l.chain < 0)
         {
-          return false;
+          continue; // its nearest curve point lies outside the triangle
         }
         const Vec2 x = rails.position(l);
         double inside = std::numeric_limits<double>::infinity();
