@@ -226,12 +226,16 @@ public:
    * triangles around it take the region of their centroid, never putting a region boundary
    * through a vertex off the curves; the refinement then runs twice, and region corners
    * sharper than MinimumAngle in small triangles (where a recovered layer ends) go to a
-   * neighbour. A mesh with a triangle below MinimumAngle or a region's area off by more than
-   * 0.05% is made once more with half the recovery margin (thinner layers, smaller regions),
-   * and the better kept (larger smallest angle, then smaller area error). Region areas within
-   * 0.5% on most models (README, Measured). The field data
-   * CurveVertices counts the inserted vertices. Default on; off keeps the compressed mesh's
-   * regions.
+   * neighbour. A region boundary edge that cuts off more than 0.05% of the smaller of its
+   * regions' areas from its curve is split at the curve point farthest from it (small
+   * countries and islands keep their area). A mesh with a triangle below MinimumAngle or a
+   * region's area off by more than 0.05% is made once more with half the recovery margin (thinner
+   * layers, smaller regions), and the better kept (larger smallest angle, then smaller area error;
+   * a retry that halves an area error above 0.5% is kept if its smallest angle is at most 5
+   * degrees below MinimumAngle).
+   * Region areas within 0.5% on every bundled model (README, Measured). The field data
+   * CurveVertices counts the vertices inserted on curves. Default on; off keeps the compressed
+   * mesh's regions.
    */
   vtkSetMacro(CurveRecovery, vtkTypeBool);
   vtkGetMacro(CurveRecovery, vtkTypeBool);

@@ -24,6 +24,14 @@
 //    Before the probes, every triangle within its longest edge of a curve (curveDistance)
 //    takes the region at its centroid under the same rule (the paper's barycentre
 //    classification, on the compressed mesh). Everything below then starts from this mesh.
+// 2b'. Curve fidelity (optional: RefinementParams::curveDeviation). A region boundary edge at
+//    least minimumEdgeLength long that cuts off more than 0.05% of the smaller of its two
+//    regions' (mesh) areas from the curve stretch it stands for is split at that stretch's
+//    point farthest from it, without the transactions of 4 (the refinement mends the
+//    triangles after); the halves are checked in turn (up to 8 rounds, within the insertion
+//    budget). The threshold is relative to the region, so that only small regions (islands,
+//    small countries, whose area a chord across a bend is a sizeable part of) get such
+//    splits: a large region's boundary keeps the edges the refinement gives it.
 // 2c. Sharp corners (with the curve recovery). A recovered layer ends where it gets thinner
 //    than the triangles, often in a spike: a triangle whose smallest angle lies between two
 //    region boundary edges. A region triangle with such a corner below minimumAngle, no longer
@@ -78,13 +86,16 @@
 //    neighbours or toward that centroid, unless the middle of one of its boundary edges would
 //    get farther from the curves than 5% of the edge's length (or than it was); no move makes
 //    an angle above max(120 degrees, the largest before). Junctions and feature points stay.
-//    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more.
+//    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more, and
+//    after the last pass, when that gave corners away, a cautious run of 3 (a wedge's tip
+//    given to its neighbour leaves the tip's sharp corner between edges that are no longer
+//    constrained, which insertions can now widen).
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
 // Outside the smoothing no step moves an existing vertex, and no step inverts a triangle;
 // outside the curve recovery and 2c no triangle changes region, and the regions' areas change
-// only where a boundary edge is split onto its curve or a boundary vertex slides.
+// only where a boundary edge is split onto its curve (3, 2b') or a boundary vertex slides.
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -113,9 +124,11 @@ constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at m
 constexpr int kSmoothingRounds = 4;      // rounds of the smoothing at most
 // A smoothing move makes no angle above max(120 degrees, the largest before).
 const double kSmoothingLargestCosine = std::cos(120.0 * kPi / 180.0);
-constexpr double kSlideDeviation = 0.05; // a slid boundary edge's middle stays this close to
-                                         // the curves (relative to its length)
-constexpr int kRecoveryPasses = 2;       // passes of 2b-5 with the curve recovery
+constexpr double kSlideDeviation = 0.05;    // a slid boundary edge's middle stays this close to
+                                            // the curves (relative to its length)
+constexpr double kDeviationFraction = 5e-4; // 2b': area a boundary edge may cut off
+constexpr int kFollowRounds = 8;            // rounds of 2b' at most
+constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve recovery
 // The refinement of 3 goes down to this much of minimumEdgeLength: a junction pair, a curve
 // vertex or a recovered layer often leaves a boundary edge a little shorter than the finest
 // triangles, and the triangles beside it are only mended below it (Gulf: a 22.7-degree triangle
@@ -189,6 +202,8 @@ public:
   void flipToDelaunay();
   /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted.
   std::size_t recoverCurves();
+  /// Curve fidelity (RefinementParams::curveDeviation): returns the boundary edges split.
+  std::size_t followCurves();
   /// Region corners sharper than the bound in small triangles given a neighbour's region
   /// (with the curve recovery's callbacks): returns the triangles retagged.
   std::size_t dissolveCorners();
@@ -860,6 +875,87 @@ std::size_t Refiner::recoverCurves()
   return this->Inserted - before;
 }
 
+std::size_t Refiner::followCurves()
+{
+  if (!this->P.curveDeviation)
+  {
+    return 0;
+  }
+  std::vector<double> area; // mesh area per region
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    const int r = this->M.region[t];
+    if (r >= 0 && this->Live[t])
+    {
+      area.resize(std::max(area.size(), static_cast<std::size_t>(r) + 1), 0.0);
+      const auto& tri = this->M.triangles[t];
+      area[r] += 0.5 * orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+    }
+  }
+  // The region boundary edges of the given triangles, each once (from its region side).
+  std::vector<std::pair<int, int>> todo;
+  const auto collect = [&](const std::vector<int>& triangles)
+  {
+    todo.clear();
+    for (int t : triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const int u = this->Nbr[t][k];
+        if (this->M.region[t] >= 0 && this->Live[t] && this->constrained(t, k) &&
+          (u < 0 || this->M.region[u] < 0 || (this->Live[u] && t < u)))
+        {
+          todo.emplace_back(t, k);
+        }
+      }
+    }
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+  };
+  std::vector<int> all(this->M.triangles.size());
+  std::iota(all.begin(), all.end(), 0);
+  collect(all);
+  std::size_t splits = 0;
+  std::vector<int> created, touched;
+  for (int round = 0; round < kFollowRounds && !todo.empty(); ++round)
+  {
+    touched.clear();
+    for (const auto& [t, k] : todo)
+    {
+      this->poll();
+      const int u = this->Nbr[t][k];
+      if (this->Inserted >= this->Budget || !this->Live[t] || this->M.region[t] < 0 ||
+        !this->constrained(t, k) || (u >= 0 && !this->Live[u]))
+      {
+        continue; // (a split before may have changed the slot)
+      }
+      const Vec2 a = this->X(this->M.triangles[t][k]),
+                 b = this->X(this->M.triangles[t][(k + 1) % 3]);
+      const double l = norm(b - a);
+      const int left = this->M.region[t], right = u >= 0 ? this->M.region[u] : -1;
+      double deviation = 0.0;
+      Vec2 w;
+      if (l < this->P.minimumEdgeLength || !this->P.curveDeviation(a, b, left, right, deviation, w))
+      {
+        continue;
+      }
+      const double smaller = right >= 0 ? std::min(area[left], area[right]) : area[left];
+      if (!(deviation > kDeviationFraction * smaller) ||
+        !(std::min(norm(w - a), norm(w - b)) >= kFloor * this->P.minimumEdgeLength) ||
+        !this->splitEdge(t, k, w, created))
+      {
+        continue;
+      }
+      ++splits;
+      ++this->Inserted;
+      touched.insert(touched.end(), created.begin(), created.end());
+    }
+    sortUnique(touched);
+    collect(touched);
+  }
+  return splits;
+}
+
 // Gives t the region at its centroid unless that gives it a region boundary edge with an end
 // off the curves. Returns whether its region changed.
 bool Refiner::retag(int t)
@@ -1363,12 +1459,14 @@ namespace
 RefinementResult refinePass(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
+  bool last,
   const ProgressReporter& progress)
 {
   const std::vector<Zone> none;
   Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
   base.prepare(); // mesh is constrained Delaunay from here on
   const std::size_t recovered = base.recoverCurves();
+  const std::size_t followed = base.followCurves();
   const std::size_t dissolved = base.dissolveCorners();
   const std::size_t flips = base.flips();
   RegionMesh best = mesh;
@@ -1403,10 +1501,20 @@ RefinementResult refinePass(RegionMesh& mesh,
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
   polish.prepare();
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
-  bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
+  const std::size_t lastDissolved = polish.dissolveCorners();
+  bestResult.dissolvedCorners = dissolved + lastDissolved;
+  if (last && lastDissolved > 0 && params.minimumAngle > 0.0)
+  {
+    // The corners given away there leave triangles with unconstrained sharp corners behind
+    // (a wedge's tip in its neighbour): a cautious run mends them.
+    const RefinementResult mended = polish.run();
+    bestResult.interiorVertices += mended.interiorVertices;
+    bestResult.boundaryVertices += mended.boundaryVertices;
+  }
   polish.countBad(bestResult);
   bestResult.delaunayFlips += flips + polish.flips();
-  bestResult.curveVertices = recovered;
+  bestResult.curveVertices = recovered + followed;
+  bestResult.fidelitySplits = followed;
   mesh = std::move(best);
   return bestResult;
 }
@@ -1443,11 +1551,13 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     const RefinementResult r = refinePass(mesh,
       splitter,
       params,
+      pass + 1 == passes,
       progress.sub(static_cast<double>(pass) / passes, static_cast<double>(pass + 1) / passes));
     total.delaunayFlips += r.delaunayFlips;
     total.interiorVertices += r.interiorVertices;
     total.boundaryVertices += r.boundaryVertices;
     total.curveVertices += r.curveVertices;
+    total.fidelitySplits += r.fidelitySplits;
     total.smoothingMoves += r.smoothingMoves;
     total.dissolvedCorners += r.dissolvedCorners;
     total.badTrianglesLeft = r.badTrianglesLeft;

@@ -55,6 +55,15 @@ struct RefinementParams
   /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
   std::function<double(Vec2 p, double within)> curveDistance;
+  /// Optional curve fidelity, after the curve recovery (with it): for a region boundary edge
+  /// from a to b (region `left` on its left, `right` on its right, -1 the outer border),
+  /// returns true with the area between the edge and the stretch of the curve it stands for
+  /// in `area` (model units squared; parts on both sides add up) and the point of that
+  /// stretch farthest from the edge in `at`, or false when the edge does not stand for a
+  /// curve between those regions. An edge that cuts off more than 0.05% of the smaller of its
+  /// regions' areas is split at `at` (its halves are checked in turn), down to
+  /// minimumEdgeLength: small regions (islands, small countries) keep their area.
+  std::function<bool(Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)> curveDeviation;
 };
 
 /// Throws ParameterError naming the parameter and its range.
@@ -89,9 +98,10 @@ struct RefinementResult
   /// insertion can widen).
   std::size_t badTrianglesLeft = 0;
   std::size_t badTrianglesAtCorners = 0;
-  bool budgetReached = false;       ///< insertionBudget stopped the refinement
-  std::size_t curveVertices = 0;    ///< vertices inserted on curves by the curve recovery
-  std::size_t smoothingMoves = 0;   ///< vertex moves of the smoothing after the refinement
+  bool budgetReached = false;     ///< insertionBudget stopped the refinement
+  std::size_t curveVertices = 0;  ///< vertices inserted on curves by the curve recovery (2b, 2b')
+  std::size_t fidelitySplits = 0; ///< of those, boundary edges split where their curve strays (2b')
+  std::size_t smoothingMoves = 0; ///< vertex moves of the smoothing after the refinement
   std::size_t dissolvedCorners = 0; ///< triangles given a neighbour's region (sharp corners)
 };
 

@@ -159,10 +159,15 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
 }
 
 constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
+constexpr double kStretch = 8.0;    // curve fidelity: curve stretches up to this many edges long
 // The curve recovery's retry (see triangulate()): when a region's area is off by more than
 // this, or a triangle is below MinimumAngle - kRetryAngleSlack degrees, with this margin scale.
 constexpr double kRetryAreaError = 0.0005;
 constexpr double kRetryAngleSlack = 0.05;
+// ... and a retry that halves an area error beyond issue 5's 0.5% bound is kept if its smallest
+// angle is at most this much (degrees) below MinimumAngle.
+constexpr double kAreaBound = 0.005;
+constexpr double kRetryAngleTrade = 5.0;
 constexpr double kRetryMarginScale = 0.5;
 
 // The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
@@ -344,6 +349,97 @@ void refineCompressed(CompressionResult& compressed,
     {
       double d = 0.0;
       return within(p, 2.0 * onCurveTolerance, &d).chain >= 0 && d <= onCurveTolerance;
+    };
+    rp.curveDeviation = [&](Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)
+    {
+      // The curve nearest the edge's middle, if it separates the edge's regions; a and b
+      // found on it by a walk from there (a stretch up to kStretch times the edge long).
+      const BoundaryRails::Location m = closest(0.5 * (a + b), nullptr);
+      if (m.chain < 0 || !separates(rails.chain(m.chain), left, right))
+      {
+        return false;
+      }
+      const BoundaryRails::Chain& c = rails.chain(m.chain);
+      const int ns = static_cast<int>(c.numberOfSegments());
+      const int np = static_cast<int>(c.points.size());
+      const double reach = kStretch * norm(b - a);
+      const double tolerance = 16.0 * onCurveTolerance;
+      // The segment of the walk from m (dir +1 forward, -1 backward) that holds p, or -1, and
+      // the length walked to it.
+      const auto find = [&](Vec2 p, int dir, double& walked)
+      {
+        walked = 0.0;
+        for (int i = 0, seg = m.segment; i < ns && walked <= reach; ++i)
+        {
+          const Vec2 q0 = c.points[seg], q1 = c.points[(seg + 1) % np];
+          if (pointSegmentDistance2(p, q0, q1) <= tolerance * tolerance)
+          {
+            return seg;
+          }
+          walked += norm(q1 - q0);
+          seg += dir;
+          if (seg < 0 || seg >= ns)
+          {
+            if (!c.closed)
+            {
+              break;
+            }
+            seg = (seg + ns) % ns;
+          }
+        }
+        return -1;
+      };
+      // a behind m and b ahead, or the other way round (on a short closed chain both may be
+      // found: the shorter stretch is the edge's).
+      double wa = 0.0, wb = 0.0, wa2 = 0.0, wb2 = 0.0;
+      int first = find(a, -1, wa), last = find(b, +1, wb);
+      const int first2 = find(b, -1, wb2), last2 = find(a, +1, wa2);
+      Vec2 from = a, to = b;
+      if (first2 >= 0 && last2 >= 0 && (first < 0 || last < 0 || wb2 + wa2 < wa + wb))
+      {
+        first = first2;
+        last = last2;
+        from = b;
+        to = a;
+      }
+      if (first < 0 || last < 0)
+      {
+        return false;
+      }
+      // The stretch from -> chain points first+1 .. last -> to, in the frame of the edge: the
+      // area between it and the edge (each part where it crosses the edge taken positive),
+      // and its point farthest from the edge.
+      const Vec2 axis = (1.0 / norm(to - from)) * (to - from);
+      const auto frame = [&](Vec2 p) { return Vec2{ dot(p - from, axis), cross(axis, p - from) }; };
+      area = 0.0;
+      double farthest = 0.0;
+      Vec2 prev{ 0.0, 0.0 };
+      const auto add = [&](Vec2 q)
+      {
+        if (prev.y * q.y >= 0.0)
+        {
+          area += std::abs(0.5 * (q.x - prev.x) * (prev.y + q.y));
+        }
+        else
+        {
+          const double x = prev.x + prev.y / (prev.y - q.y) * (q.x - prev.x);
+          area += std::abs(0.5 * (x - prev.x) * prev.y) + std::abs(0.5 * (q.x - x) * q.y);
+        }
+        prev = q;
+      };
+      for (int seg = first; seg != last; seg = (seg + 1) % ns)
+      {
+        const Vec2 p = c.points[(seg + 1) % np];
+        const Vec2 q = frame(p);
+        if (std::abs(q.y) > farthest)
+        {
+          farthest = std::abs(q.y);
+          at = p;
+        }
+        add(q);
+      }
+      add(frame(to));
+      return farthest > 0.0;
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
@@ -715,7 +811,9 @@ MesherResult triangulate(const RawPolylines& input,
       const RefinedOutcome o2 = refinedOutcome(*retry, model, progress.sub(0.93, 0.95));
       const double a1 = std::min(o1.minAngle, target), a2 = std::min(o2.minAngle, target);
       if (a2 > a1 + kRetryAngleSlack ||
-        (a2 >= a1 - kRetryAngleSlack && o2.areaError < o1.areaError))
+        (a2 >= a1 - kRetryAngleSlack && o2.areaError < o1.areaError) ||
+        (o1.areaError > kAreaBound && o2.areaError < 0.5 * o1.areaError &&
+          o2.minAngle >= params.refinement.minimumAngle - kRetryAngleTrade))
       {
         compressed = std::move(*retry);
         first = std::move(second);

@@ -39,12 +39,16 @@ struct MesherParams
   /// layers and islands the compression lost and pulls the boundary onto the curves. Off-curve
   /// vertices that keep a triangle from its region are snapped onto their curve first; the
   /// refinement then runs twice and dissolves the spikes where a recovered layer ends
-  /// (DelaunayRefinement.cpp). A mesh with a triangle below refinement.minimumAngle or a
-  /// region's area off by more than 0.05% is refined once more from the compressed mesh with
-  /// half the recovery margin (thinner layers, smaller regions), and the better is kept: the
-  /// larger smallest angle (up to minimumAngle), then the smaller area error. Region areas
-  /// within 0.5% on most models (README, Measured). Default on; off gives the compressed
-  /// mesh's regions, only refined.
+  /// (DelaunayRefinement.cpp). A region boundary edge that cuts off more than 0.05% of the
+  /// smaller of its regions' areas from its curve is split at the curve point farthest from it
+  /// (small countries and islands keep their area). A mesh with a triangle below
+  /// refinement.minimumAngle or a region's area off by more than 0.05% is refined once more from
+  /// the compressed mesh with half the recovery margin (thinner layers, smaller regions), and the
+  /// better is kept: the larger smallest angle (up to minimumAngle), then the smaller area error
+  /// (a retry that halves an area error above 0.5% is kept if its smallest angle is at most 5
+  /// degrees below minimumAngle).
+  /// Region areas within 0.5% on every bundled model (README, Measured). Default on; off gives the
+  /// compressed mesh's regions, only refined.
   bool curveRecovery = true;
 };
 

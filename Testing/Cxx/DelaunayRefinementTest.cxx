@@ -546,6 +546,190 @@ TEST(DelaunayRefinementTest, TrianglesDownToHalfTheMinimumEdgeLengthAreRefined)
   EXPECT_LT(meshMinimumAngle(coarse), 30.0);
 }
 
+// Curve fidelity (RefinementParams::curveDeviation): a region boundary edge that cuts off
+// more than 0.05% of its smaller region's area from its curve is split at the curve's point
+// farthest from it, so that the regions get their curve areas (a square halved by the curve
+// (5, 0) - (5 + bulge, 5) - (5, 10), meshed with the straight edge x = 5); an edge that cuts
+// off less is kept, and a refused edge is left alone.
+TEST(DelaunayRefinementTest, BoundaryEdgesThatCutOffTheirCurveAreSplitOnIt)
+{
+  for (const double bulge : { 1.0, 0.001 })
+  {
+    RegionMesh m;
+    m.points = { { 0, 0 }, { 5, 0 }, { 10, 0 }, { 10, 10 }, { 5, 10 }, { 0, 10 } };
+    m.triangles = { { 0, 1, 4 }, { 0, 4, 5 }, { 1, 2, 3 }, { 1, 3, 4 } };
+    m.region = { 0, 0, 1, 1 };
+    m.level = { 0, 0, 0, 0 };
+    RefinementParams p;
+    p.minimumEdgeLength = 1.0;
+    const Vec2 tip{ 5.0 + bulge, 5.0 };
+    int asked = 0;
+    p.curveDeviation = [&](Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)
+    {
+      ++asked;
+      const bool whole = a.x == 5.0 && b.x == 5.0 && std::min(a.y, b.y) == 0.0 &&
+        std::max(a.y, b.y) == 10.0 && std::min(left, right) == 0 && std::max(left, right) == 1;
+      if (!whole)
+      {
+        return false; // the outer border, or a half already on the curve
+      }
+      area = 5.0 * bulge;
+      at = tip;
+      return true;
+    };
+    const RefinementResult r = strata::refineDelaunay(m, middle, p);
+    expectValid(m);
+    const bool split = bulge == 1.0; // 5 against 0.05% x 45; 0.005 against 0.05% x 50
+    EXPECT_GT(asked, 0);
+    EXPECT_EQ(r.fidelitySplits, split ? 1u : 0u) << bulge;
+    EXPECT_EQ(std::count(m.points.begin(), m.points.end(), tip), split ? 1 : 0) << bulge;
+    const auto areas = regionAreas(m);
+    EXPECT_NEAR(areas.at(0), split ? 55.0 : 50.0, 1e-9) << bulge;
+    EXPECT_NEAR(areas.at(1), split ? 45.0 : 50.0, 1e-9) << bulge;
+  }
+}
+
+// A sharp corner between two unconstrained edges at a junction (what a wedge's tip given to
+// its neighbour leaves: the same region on both sides of the edges) is no region corner: the
+// refinement widens it (16 degrees before, at least 30 after) from beyond its long edge. No
+// boundary edge may be split, so only interior insertions can do it.
+TEST(DelaunayRefinementTest, ASharpCornerBetweenUnconstrainedEdgesIsWidened)
+{
+  // Point 0 is the corner: 1 and 2 lie on its edges (16 degrees apart), 3 beyond the short
+  // edge 1-2 (triangle 1-3-2 is region 1), 4 and 5 close to it (triangle 4-5-0 is region 2, so
+  // point 0 is a junction), then rings 25 and 50 from it (a Delaunay triangulation).
+  RegionMesh m;
+  m.points = { { 0.0, 0.0 },
+    { 13.0, 0.0 },
+    { 17.0 * std::cos(16.0 * kPi / 180.0), 17.0 * std::sin(16.0 * kPi / 180.0) },
+    { 19.0, -2.0 },
+    { 4.0 * std::cos(150.0 * kPi / 180.0), 4.0 * std::sin(150.0 * kPi / 180.0) },
+    { 4.0 * std::cos(230.0 * kPi / 180.0), 4.0 * std::sin(230.0 * kPi / 180.0) } };
+  for (const auto& [radius, first] : { std::pair<double, double>(25.0, 15.0), { 50.0, 0.0 } })
+  {
+    for (int k = 0; k < 12; ++k)
+    {
+      const double angle = (first + 30.0 * k) * kPi / 180.0;
+      m.points.push_back({ radius * std::cos(angle), radius * std::sin(angle) });
+    }
+  }
+  m.triangles = { { 11, 23, 24 },
+    { 23, 11, 10 },
+    { 29, 17, 16 },
+    { 17, 29, 18 },
+    { 25, 26, 13 },
+    { 28, 29, 16 },
+    { 15, 28, 16 },
+    { 28, 15, 27 },
+    { 22, 23, 10 },
+    { 11, 4, 10 },
+    { 8, 4, 0 },
+    { 12, 25, 13 },
+    { 25, 12, 24 },
+    { 12, 11, 24 },
+    { 12, 4, 11 },
+    { 6, 19, 7 },
+    { 19, 6, 18 },
+    { 6, 17, 18 },
+    { 19, 20, 7 },
+    { 20, 8, 7 },
+    { 8, 20, 21 },
+    { 15, 14, 27 },
+    { 26, 14, 13 },
+    { 14, 26, 27 },
+    { 9, 8, 21 },
+    { 9, 22, 10 },
+    { 22, 9, 21 },
+    { 4, 9, 10 },
+    { 9, 4, 8 },
+    { 5, 12, 13 },
+    { 12, 5, 4 },
+    { 4, 5, 0 },
+    { 14, 5, 13 },
+    { 5, 14, 15 },
+    { 5, 15, 16 },
+    { 5, 1, 0 },
+    { 1, 5, 16 },
+    { 17, 3, 16 },
+    { 3, 1, 16 },
+    { 6, 3, 17 },
+    { 3, 2, 1 },
+    { 2, 3, 6 },
+    { 2, 6, 7 },
+    { 1, 2, 0 },
+    { 2, 8, 0 },
+    { 8, 2, 7 } };
+  m.region = { 2,
+    2,
+    0,
+    0,
+    2,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    2,
+    2,
+    2,
+    2,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    2,
+    2,
+    2,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    0,
+    1,
+    0,
+    0,
+    0,
+    0,
+    0 };
+  m.level.assign(m.triangles.size(), 0);
+  const auto smallestAt = [](const RegionMesh& mesh, int v)
+  {
+    double smallest = 180.0;
+    for (const auto& t : mesh.triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        if (t[k] == v)
+        {
+          smallest = std::min(smallest,
+            strata::triangleAngles(mesh.points[t[0]], mesh.points[t[1]], mesh.points[t[2]])[k]);
+        }
+      }
+    }
+    return smallest;
+  };
+  ASSERT_NEAR(smallestAt(m, 0), 16.0, 1e-5);
+  const auto never = [](Vec2, Vec2, int, int, Vec2&) { return false; };
+  const RefinementResult result = strata::refineDelaunay(m, never);
+  expectValid(m);
+  EXPECT_GT(result.interiorVertices, 0u);
+  EXPECT_GE(smallestAt(m, 0), 30.0);
+}
+
 // The insertion budget caps the work: 1000 vertices (budget 0 x triangles + 1000) on a strip
 // that needs more.
 TEST(DelaunayRefinementTest, TheInsertionBudgetCapsTheVerticesInserted)

@@ -382,9 +382,10 @@ TEST(MesherTest, UnresolvedRegionsAreReportedById)
 namespace
 {
 // Default settings (automatic levels) on every model: issue 5's bounds where they hold
-// (smallest angle >= 25, largest <= 130, >= 95% of triangles with smallest angle >= 30), and
-// where they do not yet, the measured floor as a regression guard (README, "Known limits":
-// Marmousi's one-pixel bands meeting at 3.8-degree junctions).
+// (smallest angle >= 25, largest <= 130, >= 95% of triangles with smallest angle >= 30; every
+// region's area within 0.5%, on all of them), and where they do not yet, the measured floor as a
+// regression guard (README, "Known limits": Marmousi's one-pixel bands meeting at 3.8-degree
+// junctions).
 struct DefaultCase
 {
   const char* file;
@@ -442,6 +443,7 @@ TEST_P(DefaultQuality, AnglesStayWithinTheirBoundsAndBoundaryVerticesOnCurves)
   EXPECT_GE(r.summary.minAngle, c.minAngle);
   EXPECT_LE(r.summary.maxAngle, c.maxAngle);
   EXPECT_GE(100.0 * above30 / r.triangles.size(), c.percentAbove30);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005); // issue 5's 0.5%, on every model
 }
 
 INSTANTIATE_TEST_SUITE_P(DataModels,
