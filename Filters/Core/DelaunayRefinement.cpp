@@ -87,9 +87,9 @@
 //    get farther from the curves than 5% of the edge's length (or than it was); no move makes
 //    an angle above max(120 degrees, the largest before). Junctions and feature points stay.
 //    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more, and
-//    after the last pass, when that gave corners away, a cautious run of 3 (a wedge's tip
-//    given to its neighbour leaves the tip's sharp corner between edges that are no longer
-//    constrained, which insertions can now widen).
+//    after the last pass a cautious run of 3 (a wedge's tip given to its neighbour leaves the
+//    tip's sharp corner between edges that are no longer constrained, which insertions can
+//    now widen; the smoothing's moves are mended too).
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
@@ -216,6 +216,10 @@ public:
   /// Sets the result's counts of bad triangles (and of those at region corners).
   void countBad(RefinementResult& result) const;
   std::size_t flips() const { return this->R.delaunayFlips; }
+  /// Insertions allowed (insertionBudget x the triangles at construction + 1000), and a
+  /// smaller allowance for a run that continues another's.
+  std::size_t budget() const { return this->Budget; }
+  void limitBudget(std::size_t budget) { this->Budget = std::min(this->Budget, budget); }
   /// The smallest angle (degrees) of the region triangles.
   double minimumAngle() const;
   /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
@@ -1501,12 +1505,15 @@ RefinementResult refinePass(RegionMesh& mesh,
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
   polish.prepare();
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
-  const std::size_t lastDissolved = polish.dissolveCorners();
-  bestResult.dissolvedCorners = dissolved + lastDissolved;
-  if (last && lastDissolved > 0 && params.minimumAngle > 0.0)
+  bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
+  if (last && params.minimumAngle > 0.0)
   {
+    // What is left of the budget of the run kept (its mesh comes from one budget).
+    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
+    polish.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
     // The corners given away there leave triangles with unconstrained sharp corners behind
-    // (a wedge's tip in its neighbour): a cautious run mends them.
+    // (a wedge's tip in its neighbour), and no refinement ran after the smoothing: a cautious
+    // run mends what it can.
     const RefinementResult mended = polish.run();
     bestResult.interiorVertices += mended.interiorVertices;
     bestResult.boundaryVertices += mended.boundaryVertices;

@@ -55,14 +55,16 @@ struct RefinementParams
   /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
   std::function<double(Vec2 p, double within)> curveDistance;
-  /// Optional curve fidelity, after the curve recovery (with it): for a region boundary edge
-  /// from a to b (region `left` on its left, `right` on its right, -1 the outer border),
-  /// returns true with the area between the edge and the stretch of the curve it stands for
-  /// in `area` (model units squared; parts on both sides add up) and the point of that
-  /// stretch farthest from the edge in `at`, or false when the edge does not stand for a
-  /// curve between those regions. An edge that cuts off more than 0.05% of the smaller of its
-  /// regions' areas is split at `at` (its halves are checked in turn), down to
-  /// minimumEdgeLength: small regions (islands, small countries) keep their area.
+  /// Optional curve fidelity, after the curve recovery's insertions (the mesher sets it with
+  /// the recovery): for a region boundary edge from a to b (region `left` on its left,
+  /// `right` on its right, -1 the outer border), returns true with the area between the edge
+  /// and the stretch of the curve it stands for in `area` (model units squared; parts on both
+  /// sides add up) and the point of that stretch farthest from the edge in `at`, or false
+  /// when the edge does not stand for a curve between those regions. An edge at least
+  /// minimumEdgeLength long that cuts off more than 0.05% of the smaller of its regions'
+  /// (mesh) areas is split at `at` when both halves are at least half minimumEdgeLength long
+  /// (the halves are checked in turn): small regions (islands, small countries) keep their
+  /// area.
   std::function<bool(Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)> curveDeviation;
 };
 
