@@ -1508,15 +1508,15 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
   if (last && params.minimumAngle > 0.0)
   {
-    // What is left of the budget of the run kept (its mesh comes from one budget).
-    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
-    polish.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
     // The corners given away there leave triangles with unconstrained sharp corners behind
     // (a wedge's tip in its neighbour), and no refinement ran after the smoothing: a cautious
-    // run mends what it can.
+    // run mends what it can, with what is left of the kept run's budget.
+    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
+    polish.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
     const RefinementResult mended = polish.run();
     bestResult.interiorVertices += mended.interiorVertices;
     bestResult.boundaryVertices += mended.boundaryVertices;
+    bestResult.budgetReached = bestResult.budgetReached || mended.budgetReached;
   }
   polish.countBad(bestResult);
   bestResult.delaunayFlips += flips + polish.flips();
