@@ -170,6 +170,88 @@ constexpr double kAreaBound = 0.005;
 constexpr double kRetryAngleTrade = 5.0;
 constexpr double kRetryMarginScale = 0.5;
 
+// The segment of chain c within `tolerance` of p, walked to from segment `start` (dir +1
+// forward, -1 backward) over at most `reach` of arc length, or -1; `walked` is the length
+// walked to it.
+int walkTo(const BoundaryRails::Chain& c,
+  int start,
+  Vec2 p,
+  int dir,
+  double reach,
+  double tolerance,
+  double& walked)
+{
+  const int ns = static_cast<int>(c.numberOfSegments());
+  const int np = static_cast<int>(c.points.size());
+  walked = 0.0;
+  for (int i = 0, seg = start; i < ns && walked <= reach; ++i)
+  {
+    const Vec2 q0 = c.points[seg], q1 = c.points[(seg + 1) % np];
+    if (pointSegmentDistance2(p, q0, q1) <= tolerance * tolerance)
+    {
+      return seg;
+    }
+    walked += norm(q1 - q0);
+    seg += dir;
+    if (seg < 0 || seg >= ns)
+    {
+      if (!c.closed)
+      {
+        break;
+      }
+      seg = (seg + ns) % ns;
+    }
+  }
+  return -1;
+}
+
+// The stretch of chain c an edge from -> to stands for (from on segment first, to on segment
+// last, the chain's points first + 1 .. last between them), in the frame of the edge: sets the
+// area between the stretch and the edge (each part where it crosses the edge taken positive)
+// and the stretch's point farthest from the edge; returns whether one lies off the edge.
+bool stretchDeviation(const BoundaryRails::Chain& c,
+  int first,
+  int last,
+  Vec2 from,
+  Vec2 to,
+  double& area,
+  Vec2& at)
+{
+  const int ns = static_cast<int>(c.numberOfSegments());
+  const int np = static_cast<int>(c.points.size());
+  const Vec2 axis = (1.0 / norm(to - from)) * (to - from);
+  const auto frame = [&](Vec2 p) { return Vec2{ dot(p - from, axis), cross(axis, p - from) }; };
+  area = 0.0;
+  double farthest = 0.0;
+  Vec2 prev{ 0.0, 0.0 };
+  const auto add = [&](Vec2 q)
+  {
+    if (prev.y * q.y >= 0.0)
+    {
+      area += std::abs(0.5 * (q.x - prev.x) * (prev.y + q.y));
+    }
+    else
+    {
+      const double x = prev.x + prev.y / (prev.y - q.y) * (q.x - prev.x);
+      area += std::abs(0.5 * (x - prev.x) * prev.y) + std::abs(0.5 * (q.x - x) * q.y);
+    }
+    prev = q;
+  };
+  for (int seg = first; seg != last; seg = (seg + 1) % ns)
+  {
+    const Vec2 p = c.points[(seg + 1) % np];
+    const Vec2 q = frame(p);
+    if (std::abs(q.y) > farthest)
+    {
+      farthest = std::abs(q.y);
+      at = p;
+    }
+    add(q);
+  }
+  add(frame(to));
+  return farthest > 0.0;
+}
+
 // The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
 // split at the point of their curve nearest their middle, on the chain that separates the
@@ -353,93 +435,26 @@ void refineCompressed(CompressionResult& compressed,
     rp.curveDeviation = [&](Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)
     {
       // The curve nearest the edge's middle, if it separates the edge's regions; a and b
-      // found on it by a walk from there (a stretch up to kStretch times the edge long).
+      // found on it by a walk from there (a stretch up to kStretch times the edge long), a
+      // behind and b ahead or the other way round (on a short closed chain both may be found:
+      // the shorter stretch is the edge's).
       const BoundaryRails::Location m = closest(0.5 * (a + b), nullptr);
       if (m.chain < 0 || !separates(rails.chain(m.chain), left, right))
       {
         return false;
       }
       const BoundaryRails::Chain& c = rails.chain(m.chain);
-      const int ns = static_cast<int>(c.numberOfSegments());
-      const int np = static_cast<int>(c.points.size());
-      const double reach = kStretch * norm(b - a);
-      const double tolerance = 16.0 * onCurveTolerance;
-      // The segment of the walk from m (dir +1 forward, -1 backward) that holds p, or -1, and
-      // the length walked to it.
-      const auto find = [&](Vec2 p, int dir, double& walked)
-      {
-        walked = 0.0;
-        for (int i = 0, seg = m.segment; i < ns && walked <= reach; ++i)
-        {
-          const Vec2 q0 = c.points[seg], q1 = c.points[(seg + 1) % np];
-          if (pointSegmentDistance2(p, q0, q1) <= tolerance * tolerance)
-          {
-            return seg;
-          }
-          walked += norm(q1 - q0);
-          seg += dir;
-          if (seg < 0 || seg >= ns)
-          {
-            if (!c.closed)
-            {
-              break;
-            }
-            seg = (seg + ns) % ns;
-          }
-        }
-        return -1;
-      };
-      // a behind m and b ahead, or the other way round (on a short closed chain both may be
-      // found: the shorter stretch is the edge's).
+      const double reach = kStretch * norm(b - a), tolerance = 16.0 * onCurveTolerance;
       double wa = 0.0, wb = 0.0, wa2 = 0.0, wb2 = 0.0;
-      int first = find(a, -1, wa), last = find(b, +1, wb);
-      const int first2 = find(b, -1, wb2), last2 = find(a, +1, wa2);
-      Vec2 from = a, to = b;
+      const int first = walkTo(c, m.segment, a, -1, reach, tolerance, wa);
+      const int last = walkTo(c, m.segment, b, +1, reach, tolerance, wb);
+      const int first2 = walkTo(c, m.segment, b, -1, reach, tolerance, wb2);
+      const int last2 = walkTo(c, m.segment, a, +1, reach, tolerance, wa2);
       if (first2 >= 0 && last2 >= 0 && (first < 0 || last < 0 || wb2 + wa2 < wa + wb))
       {
-        first = first2;
-        last = last2;
-        from = b;
-        to = a;
+        return stretchDeviation(c, first2, last2, b, a, area, at);
       }
-      if (first < 0 || last < 0)
-      {
-        return false;
-      }
-      // The stretch from -> chain points first+1 .. last -> to, in the frame of the edge: the
-      // area between it and the edge (each part where it crosses the edge taken positive),
-      // and its point farthest from the edge.
-      const Vec2 axis = (1.0 / norm(to - from)) * (to - from);
-      const auto frame = [&](Vec2 p) { return Vec2{ dot(p - from, axis), cross(axis, p - from) }; };
-      area = 0.0;
-      double farthest = 0.0;
-      Vec2 prev{ 0.0, 0.0 };
-      const auto add = [&](Vec2 q)
-      {
-        if (prev.y * q.y >= 0.0)
-        {
-          area += std::abs(0.5 * (q.x - prev.x) * (prev.y + q.y));
-        }
-        else
-        {
-          const double x = prev.x + prev.y / (prev.y - q.y) * (q.x - prev.x);
-          area += std::abs(0.5 * (x - prev.x) * prev.y) + std::abs(0.5 * (q.x - x) * q.y);
-        }
-        prev = q;
-      };
-      for (int seg = first; seg != last; seg = (seg + 1) % ns)
-      {
-        const Vec2 p = c.points[(seg + 1) % np];
-        const Vec2 q = frame(p);
-        if (std::abs(q.y) > farthest)
-        {
-          farthest = std::abs(q.y);
-          at = p;
-        }
-        add(q);
-      }
-      add(frame(to));
-      return farthest > 0.0;
+      return first >= 0 && last >= 0 && stretchDeviation(c, first, last, a, b, area, at);
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
