@@ -445,16 +445,22 @@ void refineCompressed(CompressionResult& compressed,
       }
       const BoundaryRails::Chain& c = rails.chain(m.chain);
       const double reach = kStretch * norm(b - a), tolerance = 16.0 * onCurveTolerance;
-      double wa = 0.0, wb = 0.0, wa2 = 0.0, wb2 = 0.0;
+      double wa = 0.0, wb = 0.0;
       const int first = walkTo(c, m.segment, a, -1, reach, tolerance, wa);
       const int last = walkTo(c, m.segment, b, +1, reach, tolerance, wb);
-      const int first2 = walkTo(c, m.segment, b, -1, reach, tolerance, wb2);
-      const int last2 = walkTo(c, m.segment, a, +1, reach, tolerance, wa2);
-      if (first2 >= 0 && last2 >= 0 && (first < 0 || last < 0 || wb2 + wa2 < wa + wb))
+      const bool found = first >= 0 && last >= 0;
+      if (c.closed || !found)
       {
-        return stretchDeviation(c, first2, last2, b, a, area, at);
+        // (on an open chain both orders hold only with a and b on m's segment: no stretch)
+        double wa2 = 0.0, wb2 = 0.0;
+        const int first2 = walkTo(c, m.segment, b, -1, reach, tolerance, wb2);
+        const int last2 = walkTo(c, m.segment, a, +1, reach, tolerance, wa2);
+        if (first2 >= 0 && last2 >= 0 && (!found || wb2 + wa2 < wa + wb))
+        {
+          return stretchDeviation(c, first2, last2, b, a, area, at);
+        }
       }
-      return first >= 0 && last >= 0 && stretchDeviation(c, first, last, a, b, area, at);
+      return found && stretchDeviation(c, first, last, a, b, area, at);
     };
     rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
