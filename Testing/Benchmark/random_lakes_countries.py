@@ -21,6 +21,8 @@ import vtk
 from scipy.spatial import Voronoi
 from shapely.geometry import Point, Polygon
 
+from random_sections import write_vtp  # same folder
+
 
 def noisy_ring(cx, cy, r, n, rough, rng):
     """A closed curve around (cx, cy): radius r times 1 + random harmonics 2-11."""
@@ -50,11 +52,7 @@ def write(path, loops, ids):
     for i in ids:
         region.InsertNextValue(int(i))
     pd.GetCellData().AddArray(region)
-    w = vtk.vtkXMLPolyDataWriter()
-    w.SetFileName(path)
-    w.SetInputData(pd)
-    w.SetDataModeToAscii()
-    w.Write()
+    write_vtp(path, pd)
 
 
 def lake(seed, path):

@@ -13,6 +13,16 @@ import sys
 import numpy as np
 import vtk
 
+
+def write_vtp(path, poly):
+    """Writes poly to path as ASCII VTK XML PolyData (what triangulate_to_vtu reads)."""
+    writer = vtk.vtkXMLPolyDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(poly)
+    writer.SetDataModeToAscii()
+    writer.Write()
+
+
 def model(seed, path):
     """Writes the section of one seed to path (ASCII VTK XML PolyData)."""
     rng = np.random.default_rng(seed)
@@ -59,11 +69,7 @@ def model(seed, path):
     poly.SetLines(lines)
     poly.GetCellData().AddArray(left)
     poly.GetCellData().AddArray(right)
-    writer = vtk.vtkXMLPolyDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(poly)
-    writer.SetDataModeToAscii()
-    writer.Write()
+    write_vtp(path, poly)
 
 
 if __name__ == "__main__":
