@@ -87,15 +87,29 @@
 //    get farther from the curves than 5% of the edge's length (or than it was); no move makes
 //    an angle above max(120 degrees, the largest before). Junctions and feature points stay.
 //    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more, and
-//    after the last pass a cautious run of 3 (a wedge's tip given to its neighbour leaves the
-//    tip's sharp corner between edges that are no longer constrained, which insertions can
-//    now widen; the smoothing's moves are mended too).
+//    after the last pass 6 and a cautious run of 3 (a wedge's tip given to its neighbour
+//    leaves the tip's sharp corner between edges that are no longer constrained, which
+//    insertions can now widen; the smoothing's moves are mended too).
+// 6. Short edge collapses (after the last pass, with the smoothing's callbacks and onCurve).
+//    Where a tip was cut, the cut is often an edge shorter than the floor of 3, across the
+//    wedge between its two curves (Marmousi: 0.80 long against a floor of 0.875, its apex at
+//    16 degrees), and no insertion may mend the triangles on it. The shortest edge uv of such
+//    a bad triangle is collapsed: v is merged into u (either way, the better one) when v is a
+//    free vertex or one that may slide on its curve (curveSlide: no junction, no feature
+//    point) and u lies on the curves; the link condition holds (no fold); no triangle of the
+//    new star is inverted, its smallest angle is above the old stars' and its largest below
+//    max(120 degrees, the largest before); u gets no more boundary edges or regions than u or
+//    v had, and each new boundary edge joins vertices on curves with its middle within
+//    max(5% of its length, a quarter of minimumEdgeLength) of them (the tip is cut where the
+//    wedge is a little wider); no region loses its last triangle. Up to 4 sweeps; the vertex
+//    left is no longer referenced.
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
-// Outside the smoothing no step moves an existing vertex, and no step inverts a triangle;
-// outside the curve recovery and 2c no triangle changes region, and the regions' areas change
-// only where a boundary edge is split onto its curve (3, 2b') or a boundary vertex slides.
+// Outside the smoothing and 6 no step moves or removes an existing vertex, and no step inverts
+// a triangle; outside the curve recovery and 2c no triangle changes region, and the regions'
+// areas change only where a boundary edge is split onto its curve (3, 2b') or a boundary
+// vertex slides or is collapsed (6).
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -106,6 +120,7 @@
 #include <deque>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace strata
@@ -128,6 +143,7 @@ constexpr double kSlideDeviation = 0.05;    // a slid boundary edge's middle sta
                                             // the curves (relative to its length)
 constexpr double kDeviationFraction = 5e-4; // 2b': area a boundary edge may cut off
 constexpr int kFollowRounds = 8;            // rounds of 2b' at most
+constexpr int kCollapseSweeps = 4;          // sweeps of the short edge collapses (6) at most
 constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve recovery
 // The refinement of 3 goes down to this much of minimumEdgeLength: a junction pair, a curve
 // vertex or a recovered layer often leaves a boundary edge a little shorter than the finest
@@ -1460,6 +1476,331 @@ namespace
 // smallest angle is the one to beat), then bold runs, each with cautious zones around the
 // triangles where the previous bold run ended below the best so far; the run with the largest
 // smallest angle (then the fewest bad triangles) is kept, then smoothed.
+// Smallest-angle cosine of abc (2 when abc is not counter-clockwise) and, in `largest`, the
+// cosine of its largest angle.
+double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest)
+{
+  if (!(orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a))))
+  {
+    largest = -1.0;
+    return 2.0;
+  }
+  double s = norm2(c - b), p = norm2(a - c), q = norm2(b - a);
+  if (p < s)
+  {
+    std::swap(s, p);
+  }
+  if (q < s)
+  {
+    std::swap(s, q);
+  }
+  largest = largestAngleCosine(a, b, c);
+  return (p + q - s) / (2.0 * std::sqrt(p * q));
+}
+
+} // namespace
+
+// Step 6: the short edge collapses (see the top of this file). Returns the collapses.
+std::size_t collapseShortEdges(RegionMesh& m, const RefinementParams& P)
+{
+  if (!P.onCurve || !P.curveSlide || !P.curveDistance || !(P.minimumAngle > 0.0) ||
+    !(P.minimumEdgeLength > 0.0))
+  {
+    return 0;
+  }
+  const double cosBad = std::cos(P.minimumAngle * kPi / 180.0);
+  const double shortLength = kFloor * P.minimumEdgeLength;
+  const auto X = [&](int v) { return m.points[v]; };
+  std::map<int, std::size_t> count; // triangles per region
+  for (int r : m.region)
+  {
+    ++count[r];
+  }
+  std::size_t total = 0;
+  for (int sweep = 0; sweep < kCollapseSweeps; ++sweep)
+  {
+    const PointStars stars = pointStars(m.points.size(), m.triangles);
+    const auto star = [&](int v)
+    {
+      return std::vector<int>(
+        stars.items.begin() + stars.start[v], stars.items.begin() + stars.start[v + 1]);
+    };
+    std::vector<std::uint8_t> dead(m.triangles.size(), 0), touched(m.points.size(), 0);
+    // The edges (v, x) of a triangle list around v: x, and whether the edge is a region
+    // boundary (one triangle, or two of different regions); -1 in `regions` for the former.
+    struct Edge
+    {
+      int x;
+      bool boundary;
+    };
+    const auto edgesAround = [&](int v,
+                               const std::vector<std::array<int, 3>>& tris,
+                               const std::vector<int>& regs,
+                               std::vector<Edge>& edges,
+                               std::vector<int>& regions)
+    {
+      std::map<int, std::vector<int>> by; // other end -> regions of its triangles
+      regions.clear();
+      for (std::size_t i = 0; i < tris.size(); ++i)
+      {
+        const auto& tri = tris[i];
+        const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+        by[tri[(k + 1) % 3]].push_back(regs[i]);
+        by[tri[(k + 2) % 3]].push_back(regs[i]);
+        regions.push_back(regs[i]);
+      }
+      edges.clear();
+      bool manifold = true;
+      for (const auto& [x, rs] : by)
+      {
+        manifold = manifold && rs.size() <= 2;
+        const bool boundary = rs.size() == 1 || rs[0] != rs[1];
+        edges.push_back({ x, boundary });
+        if (rs.size() == 1)
+        {
+          regions.push_back(-1);
+        }
+      }
+      sortUnique(regions);
+      return manifold;
+    };
+    std::size_t collapsed = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    {
+      const auto tri = m.triangles[t];
+      if (dead[t] || m.region[t] < 0 || touched[tri[0]] || touched[tri[1]] || touched[tri[2]])
+      {
+        continue;
+      }
+      double largest = 0.0;
+      const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]), largest);
+      if (!(cosine > cosBad) || cosine > 1.0)
+      {
+        continue;
+      }
+      int k = 0; // shortest edge (tri[k], tri[k + 1])
+      for (int j = 1; j < 3; ++j)
+      {
+        k = norm2(X(tri[(j + 1) % 3]) - X(tri[j])) < norm2(X(tri[(k + 1) % 3]) - X(tri[k])) ? j : k;
+      }
+      if (!(norm(X(tri[(k + 1) % 3]) - X(tri[k])) < shortLength))
+      {
+        continue;
+      }
+      // Try both ways: v merges into u.
+      double bestCosine = HUGE_VAL;
+      int bestV = -1, bestU = -1;
+      for (int way = 0; way < 2; ++way)
+      {
+        const int u = tri[(k + way) % 3], v = tri[(k + 1 - way) % 3];
+        const std::vector<int> su = star(u), sv = star(v);
+        std::vector<int> old = su;
+        old.insert(old.end(), sv.begin(), sv.end());
+        sortUnique(old);
+        // The old neighbourhood: its worst shape, its regions and boundary edges at u and v.
+        double oldCosine = -1.0, oldLargest = 1.0;
+        bool ok = true;
+        std::vector<int> shared;
+        for (int s : old)
+        {
+          const auto& o = m.triangles[s];
+          double l = 0.0;
+          const double c = shapeCosine(X(o[0]), X(o[1]), X(o[2]), l);
+          ok = ok && c <= 1.0; // no triangle without positive area nearby
+          if (m.region[s] >= 0)
+          {
+            oldCosine = std::max(oldCosine, c);
+            oldLargest = std::min(oldLargest, l);
+          }
+          if ((o[0] == u || o[1] == u || o[2] == u) && (o[0] == v || o[1] == v || o[2] == v))
+          {
+            shared.push_back(s);
+          }
+        }
+        if (!ok || shared.empty() || shared.size() > 2)
+        {
+          continue;
+        }
+        std::vector<std::array<int, 3>> tris;
+        std::vector<int> regs;
+        std::vector<Edge> edgesU, edgesV, edgesAfter;
+        std::vector<int> regionsU, regionsV, regionsAfter;
+        for (int s : su)
+        {
+          tris.push_back(m.triangles[s]);
+          regs.push_back(m.region[s]);
+        }
+        ok = edgesAround(u, tris, regs, edgesU, regionsU);
+        tris.clear();
+        regs.clear();
+        for (int s : sv)
+        {
+          tris.push_back(m.triangles[s]);
+          regs.push_back(m.region[s]);
+        }
+        ok = ok && edgesAround(v, tris, regs, edgesV, regionsV);
+        std::vector<int> endsU, endsV;
+        for (const Edge& e : edgesU)
+        {
+          if (e.boundary)
+          {
+            endsU.push_back(e.x);
+          }
+        }
+        for (const Edge& e : edgesV)
+        {
+          if (e.boundary)
+          {
+            endsV.push_back(e.x);
+          }
+        }
+        // v leaves: a free vertex, or one on a curve that may slide (no junction, no feature
+        // point), merging into a vertex on the curves.
+        const bool free = endsV.empty() && regionsV.size() == 1 && regionsV[0] >= 0;
+        Vec2 at;
+        const bool slides = endsV.size() == 2 && regionsV.size() == 2 && P.onCurve(X(u)) &&
+          P.curveSlide(X(v), X(u), regionsV[0], regionsV[1], at);
+        if (!ok || (!free && !slides))
+        {
+          continue;
+        }
+        bool lastOfRegion = false;
+        for (int s : shared)
+        {
+          lastOfRegion = lastOfRegion || count[m.region[s]] <= 1;
+        }
+        if (lastOfRegion)
+        {
+          continue;
+        }
+        // The link condition: u and v have no common neighbour but the shared triangles'
+        // third corners (else the collapse folds the mesh).
+        std::vector<int> common;
+        for (const Edge& a : edgesU)
+        {
+          for (const Edge& b : edgesV)
+          {
+            common.push_back(a.x == b.x ? a.x : -1);
+          }
+        }
+        sortUnique(common);
+        common.erase(std::remove(common.begin(), common.end(), -1), common.end());
+        if (common.size() != shared.size())
+        {
+          continue;
+        }
+        // The new neighbourhood: v's triangles with v -> u, the shared ones gone.
+        tris.clear();
+        regs.clear();
+        double newCosine = -1.0, newLargest = 1.0;
+        for (int s : old)
+        {
+          if (std::find(shared.begin(), shared.end(), s) != shared.end())
+          {
+            continue;
+          }
+          auto o = m.triangles[s];
+          for (int& x : o)
+          {
+            x = x == v ? u : x;
+          }
+          double l = 0.0;
+          const double c = shapeCosine(X(o[0]), X(o[1]), X(o[2]), l);
+          ok = ok && c <= 1.0;
+          if (m.region[s] >= 0)
+          {
+            newCosine = std::max(newCosine, c);
+            newLargest = std::min(newLargest, l);
+          }
+          if (o[0] == u || o[1] == u || o[2] == u)
+          {
+            tris.push_back(o);
+            regs.push_back(m.region[s]);
+          }
+        }
+        ok = ok && edgesAround(u, tris, regs, edgesAfter, regionsAfter) &&
+          newCosine < std::min(oldCosine, bestCosine) - 1e-12 &&
+          newLargest >= std::min(oldLargest, kSmoothingLargestCosine) - 1e-12;
+        // Boundary edges: no more at u than at either end before, every new one between
+        // vertices on curves and near them.
+        std::size_t endsAfter = 0;
+        for (const Edge& e : edgesAfter)
+        {
+          if (!ok || !e.boundary)
+          {
+            continue;
+          }
+          ++endsAfter;
+          if (std::find(endsU.begin(), endsU.end(), e.x) == endsU.end())
+          {
+            const Vec2 a = X(u), b = X(e.x);
+            ok = P.onCurve(a) && P.onCurve(b) &&
+              P.curveDistance(0.5 * (a + b), HUGE_VAL) <=
+                std::max(kSlideDeviation * norm(b - a), 0.5 * shortLength);
+          }
+        }
+        if (ok && endsAfter <= std::max(endsU.size(), endsV.size()) &&
+          regionsAfter.size() <= std::max(regionsU.size(), regionsV.size()))
+        {
+          bestCosine = newCosine;
+          bestU = u;
+          bestV = v;
+        }
+      }
+      if (bestV < 0)
+      {
+        continue;
+      }
+      for (int s : star(bestV))
+      {
+        auto& o = m.triangles[s];
+        if ((o[0] == bestU || o[1] == bestU || o[2] == bestU))
+        {
+          dead[s] = 1;
+          --count[m.region[s]];
+        }
+        for (int& x : o)
+        {
+          x = x == bestV ? bestU : x;
+        }
+      }
+      for (int w : { bestU, bestV })
+      {
+        for (int s : star(w))
+        {
+          for (int x : m.triangles[s])
+          {
+            touched[x] = 1;
+          }
+        }
+      }
+      ++collapsed;
+    }
+    if (collapsed == 0)
+    {
+      break;
+    }
+    total += collapsed;
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    {
+      if (!dead[t])
+      {
+        m.triangles[kept] = m.triangles[t];
+        m.region[kept] = m.region[t];
+        m.level[kept] = m.level[t];
+        ++kept;
+      }
+    }
+    m.triangles.resize(kept);
+    m.region.resize(kept);
+    m.level.resize(kept);
+  }
+  return total;
+}
+
+namespace
+{
 RefinementResult refinePass(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
@@ -1506,20 +1847,32 @@ RefinementResult refinePass(RegionMesh& mesh,
   polish.prepare();
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
+  bestResult.delaunayFlips += flips + polish.flips();
+  std::optional<Refiner> collapsed; // the refiner of the mesh after the collapses of 6
   if (last && params.minimumAngle > 0.0)
   {
     // The corners given away there leave triangles with unconstrained sharp corners behind
     // (a wedge's tip in its neighbour), and no refinement ran after the smoothing: a cautious
-    // run mends what it can, with what is left of the kept run's budget.
+    // run mends what it can, with what is left of the kept run's budget, once the edges too
+    // short for it are collapsed.
+    bestResult.collapsedEdges = collapseShortEdges(best, params);
+    if (bestResult.collapsedEdges > 0)
+    {
+      collapsed.emplace(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
+      collapsed->prepare();
+      bestResult.delaunayFlips += collapsed->flips();
+    }
+    Refiner& mender = collapsed ? *collapsed : polish;
+    const std::size_t flipsBefore = mender.flips();
     const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
-    polish.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
-    const RefinementResult mended = polish.run();
+    mender.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
+    const RefinementResult mended = mender.run();
     bestResult.interiorVertices += mended.interiorVertices;
     bestResult.boundaryVertices += mended.boundaryVertices;
     bestResult.budgetReached = bestResult.budgetReached || mended.budgetReached;
+    bestResult.delaunayFlips += mender.flips() - flipsBefore;
   }
-  polish.countBad(bestResult);
-  bestResult.delaunayFlips += flips + polish.flips();
+  (collapsed ? *collapsed : polish).countBad(bestResult);
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
   mesh = std::move(best);
@@ -1567,6 +1920,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     total.fidelitySplits += r.fidelitySplits;
     total.smoothingMoves += r.smoothingMoves;
     total.dissolvedCorners += r.dissolvedCorners;
+    total.collapsedEdges += r.collapsedEdges;
     total.badTrianglesLeft = r.badTrianglesLeft;
     total.badTrianglesAtCorners = r.badTrianglesAtCorners;
     total.budgetReached = total.budgetReached || r.budgetReached;

@@ -105,6 +105,7 @@ struct RefinementResult
   std::size_t fidelitySplits = 0; ///< of those, boundary edges split where their curve strays (2b')
   std::size_t smoothingMoves = 0; ///< vertex moves of the smoothing after the refinement
   std::size_t dissolvedCorners = 0; ///< triangles given a neighbour's region (sharp corners)
+  std::size_t collapsedEdges = 0;   ///< short edges collapsed (their vertex merged into the other)
 };
 
 /// The triangles around each point of a triangle list: those around point v are
@@ -131,6 +132,16 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params = {},
   const ProgressReporter& progress = ProgressReporter());
+
+/// Step 6 of refineDelaunay() on its own (see DelaunayRefinement.cpp): the shortest edge uv of
+/// a region triangle below minimumAngle, when shorter than half minimumEdgeLength (too short
+/// for the refinement), is collapsed, v merged into u, when v is free or may slide on its
+/// curve (curveSlide), u lies on the curves (onCurve), and the smallest angle around them
+/// rises without an inverted triangle, a new junction or a boundary edge off the curves.
+/// Returns the collapses; the vertices merged away stay in `points`, referenced by no
+/// triangle. Does nothing (returns 0) without onCurve, curveSlide and curveDistance, or with
+/// minimumAngle or minimumEdgeLength 0.
+std::size_t collapseShortEdges(RegionMesh& mesh, const RefinementParams& params);
 
 } // namespace strata
 

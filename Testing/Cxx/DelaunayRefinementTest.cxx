@@ -732,6 +732,86 @@ TEST(DelaunayRefinementTest, ASharpCornerBetweenUnconstrainedEdgesIsWidened)
 
 // The insertion budget caps the work: 1000 vertices (budget 0 x triangles + 1000) on a strip
 // that needs more.
+// A boundary vertex 0.3 from its neighbour on a straight curve between two bands (the
+// triangles on that edge have 4-degree apexes, and the edge is too short for the refinement):
+// the short edge is collapsed, the vertex merged into its neighbour, and the bands' 45-degree
+// triangles come back, each band's area kept, every boundary edge still on the curves. Where
+// the curve's vertices may not move (feature points), nothing is collapsed.
+TEST(DelaunayRefinementTest, AnEdgeTooShortForTheRefinementIsCollapsed)
+{
+  const auto build = []()
+  {
+    RegionMesh m = bands({ -4.0, 0.0, 4.0 }, 16.0, 4.0);
+    const int p = 7, q = 8; // (8, 0) and (12, 0)
+    const int w = static_cast<int>(m.points.size());
+    m.points.push_back({ 8.3, 0.0 });
+    const std::size_t nt = m.triangles.size();
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        const int a = m.triangles[t][k], b = m.triangles[t][(k + 1) % 3];
+        if ((a == p && b == q) || (a == q && b == p))
+        {
+          const int c = m.triangles[t][(k + 2) % 3];
+          m.triangles[t] = { a, w, c };
+          m.triangles.push_back({ w, b, c });
+          m.region.push_back(m.region[t]);
+          m.level.push_back(m.level[t]);
+          break;
+        }
+      }
+    }
+    return m;
+  };
+  const auto onBox = [](Vec2 p)
+  {
+    return std::fabs(p.x) < 1e-9 || std::fabs(p.x - 16.0) < 1e-9 ||
+      std::fabs(std::fabs(p.y) - 4.0) < 1e-9;
+  };
+  RefinementParams params;
+  params.minimumAngle = 30.0;
+  params.minimumEdgeLength = 2.0; // the floor: edges below 1 are not refined
+  params.onCurve = [&](Vec2 p) { return std::fabs(p.y) < 1e-9 || onBox(p); };
+  params.curveDistance = [&](Vec2 p, double)
+  {
+    return std::min(
+      { std::fabs(p.y), std::fabs(p.x), std::fabs(16.0 - p.x), 4.0 - std::fabs(p.y) });
+  };
+  params.curveSlide = [](Vec2 from, Vec2 toward, int left, int right, Vec2& at)
+  {
+    if (!(std::fabs(from.y) < 1e-9) || std::min(left, right) != 0 || std::max(left, right) != 1)
+    {
+      return false;
+    }
+    at = { std::clamp(toward.x, 0.0, 16.0), 0.0 };
+    return true;
+  };
+
+  RegionMesh m = build();
+  const auto before = regionAreas(m);
+  ASSERT_LT(meshMinimumAngle(m), 5.0);
+  EXPECT_EQ(strata::collapseShortEdges(m, params), 1u);
+  expectValid(m);
+  EXPECT_NEAR(meshMinimumAngle(m), 45.0, 1e-9);
+  const auto after = regionAreas(m);
+  ASSERT_EQ(after.size(), before.size());
+  for (const auto& [r, a] : before)
+  {
+    EXPECT_NEAR(after.at(r), a, 1e-9) << "region " << r;
+  }
+  for (const auto& [a, b] : boundaryEdges(m))
+  {
+    EXPECT_TRUE(params.onCurve(m.points[a]) && params.onCurve(m.points[b]))
+      << "boundary edge " << a << "-" << b << " off the curves";
+  }
+
+  RegionMesh fixed = build();
+  params.curveSlide = [](Vec2, Vec2, int, int, Vec2&) { return false; };
+  EXPECT_EQ(strata::collapseShortEdges(fixed, params), 0u);
+  EXPECT_EQ(fixed.triangles.size(), build().triangles.size());
+}
+
 TEST(DelaunayRefinementTest, TheInsertionBudgetCapsTheVerticesInserted)
 {
   RegionMesh m = bands({ -10.0, 0.0, 0.1, 10.1 }, 2000.0, 10.0);
