@@ -42,7 +42,12 @@
 //    cleanly. A speck (a triangle with no neighbour of its own region and an inradius below
 //    minimumEdgeLength, or with one and an inradius below half of it: a sliver a retag left
 //    between other regions, or hanging from its region into another) is treated so whatever
-//    its length, and may also go beyond the mesh's outer border.
+//    its length, and may also go beyond the mesh's outer border. A longer triangle is treated
+//    so when its area is at most 0.05% of its region's and it does not join two pieces of the
+//    region it joins: where the mesh is coarse, a wedge's tip between two curves meeting at
+//    a small angle is a triangle longer than that (Marmousi's 19-degree junctions, in
+//    triangles 30 long, 17 times its finest edge; country borders meeting a coast at 10-20
+//    degrees), and what the tip hides lies within its shortest edge of the mesh's boundary.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
@@ -223,6 +228,7 @@ public:
   /// Region corners sharper than the bound in small triangles given a neighbour's region
   /// (with the curve recovery's callbacks): returns the triangles retagged.
   std::size_t dissolveCorners();
+  std::vector<int> pieces() const;
   /// Smoothing of the vertices of the triangles below the bound: returns the moves.
   std::size_t smoothBad();
   /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
@@ -895,6 +901,40 @@ std::size_t Refiner::recoverCurves()
   return this->Inserted - before;
 }
 
+// The pieces of the regions (triangles joined across edges that are not constrained): the
+// piece of each triangle.
+std::vector<int> Refiner::pieces() const
+{
+  const std::size_t nt = this->M.triangles.size();
+  std::vector<int> piece(nt, -1);
+  std::vector<int> stack;
+  int id = 0;
+  for (std::size_t t0 = 0; t0 < nt; ++t0)
+  {
+    if (piece[t0] >= 0)
+    {
+      continue;
+    }
+    piece[t0] = ++id;
+    stack.assign(1, static_cast<int>(t0));
+    while (!stack.empty())
+    {
+      const int t = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3; ++k)
+      {
+        const int n = this->Nbr[t][k];
+        if (!this->constrained(t, k) && piece[n] < 0)
+        {
+          piece[n] = id;
+          stack.push_back(n);
+        }
+      }
+    }
+  }
+  return piece;
+}
+
 std::size_t Refiner::followCurves()
 {
   if (!this->P.curveDeviation)
@@ -1048,6 +1088,14 @@ std::size_t Refiner::dissolveCorners()
     return angle;
   };
   const double longest2 = std::pow(kDissolveLength * this->P.minimumEdgeLength, 2);
+  // For longer triangles: twice the regions' (mesh) areas, and the regions' pieces.
+  std::vector<int> piece = this->pieces();
+  std::map<int, double> regionTwice;
+  for (std::size_t t = 0; t < piece.size(); ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    regionTwice[this->M.region[t]] += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+  }
   std::size_t total = 0;
   std::vector<int> todo(this->M.triangles.size()), next;
   std::iota(todo.begin(), todo.end(), 0);
@@ -1072,14 +1120,16 @@ std::size_t Refiner::dissolveCorners()
                    perimeter = norm(b - a) + norm(c - b) + norm(a - c);
       const bool speck = (own == 0 && twiceArea < this->P.minimumEdgeLength * perimeter) ||
         (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
+      const bool longer =
+        !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
       if (old < 0 || !this->Live[t] || count[old] <= 1 ||
-        (!speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2) ||
+        (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
         this->cornerAngle(t) >= this->P.minimumAngle)
       {
         continue;
       }
       double best = around(t) + 1e-9;
-      int bestRegion = old;
+      int bestRegion = old, bestPiece = -1;
       for (int k = 0; k < 3; ++k)
       {
         const int n = this->Nbr[t][k];
@@ -1089,12 +1139,16 @@ std::size_t Refiner::dissolveCorners()
         }
         const int r = n >= 0 ? this->M.region[n] : -1;
         this->M.region[t] = r;
-        bool keepsCurves = true; // its new boundary edges join vertices on curves
+        // Its new boundary edges join vertices on curves; a longer one joins no two pieces of
+        // region r (a wedge's tip between two of them, in a section cut by faults).
+        bool keepsCurves = true;
         for (int j = 0; j < 3 && keepsCurves; ++j)
         {
           const int m = this->Nbr[t][j];
           keepsCurves = (m >= 0 ? this->M.region[m] : -1) == r ||
             (this->P.onCurve(this->X(tri[j])) && this->P.onCurve(this->X(tri[(j + 1) % 3])));
+          keepsCurves = keepsCurves &&
+            !(longer && r >= 0 && m >= 0 && this->M.region[m] == r && piece[m] != piece[n]);
         }
         const double angle = keepsCurves ? around(t) : -1.0;
         this->M.region[t] = old;
@@ -1102,10 +1156,12 @@ std::size_t Refiner::dissolveCorners()
         {
           best = angle;
           bestRegion = r;
+          bestPiece = n >= 0 ? piece[n] : -1;
         }
       }
       if (bestRegion != old)
       {
+        piece[t] = bestPiece;
         this->M.region[t] = bestRegion;
         --count[old];
         ++count[bestRegion];

@@ -344,6 +344,48 @@ TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
   EXPECT_NEAR(regionAreas(alone).at(1), 5.0 * tip, 1e-9);
 }
 
+// The spike of the test above with minimumEdgeLength 0.5: 10 long, more than the 16 edges of
+// 0.5 up to which corners are dissolved, with a triangle below it, (0, 0) (5, -10) (10, 0).
+// It is dissolved all the same when its area is at most 0.05% of its region's (a second piece
+// of region 1 of area 20000 makes it 0.04%), and kept when it is a larger share (second piece
+// of area 40: 18%), or when the triangle below is a second piece of region 0, which the spike
+// would join to the first (a wedge's tip between two fault blocks).
+TEST(DelaunayRefinementTest, ASharpCornerInALongerTriangleIsDissolvedWhenItIsASmallShare)
+{
+  const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
+  const auto spike = [&](double secondArea, int below)
+  {
+    RegionMesh m;
+    m.points = { { 0, 0 }, { 10, 0 }, { 10, tip }, { 0, 10 }, { 10, 10 }, { 5, -10 } };
+    m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 0, 5, 1 } };
+    m.region = { 1, 0, 0, below };
+    const double side = std::sqrt(2.0 * secondArea); // a right triangle of that area
+    m.points.insert(m.points.end(), { { 20, 0 }, { 20 + side, 0 }, { 20, side } });
+    m.triangles.push_back({ 6, 7, 8 });
+    m.region.push_back(1);
+    m.level.assign(m.triangles.size(), 0);
+    return m;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 0.5;
+  p.onCurve = [](Vec2) { return true; };
+  p.regionAt = [](Vec2) { return 0; }; // (no curvePoint: no recovery, only the dissolving)
+
+  RegionMesh small = spike(20000.0, 2);
+  const RefinementResult r = strata::refineDelaunay(small, middle, p);
+  expectValid(small);
+  EXPECT_GT(r.dissolvedCorners, 0u);
+  EXPECT_NEAR(regionAreas(small).at(1), 20000.0, 1e-6); // the second piece only
+
+  RegionMesh large = spike(40.0, 2);
+  EXPECT_EQ(strata::refineDelaunay(large, middle, p).dissolvedCorners, 0u);
+  EXPECT_NEAR(regionAreas(large).at(1), 40.0 + 5.0 * tip, 1e-9);
+
+  RegionMesh pieces = spike(20000.0, 0);
+  EXPECT_EQ(strata::refineDelaunay(pieces, middle, p).dissolvedCorners, 0u);
+  EXPECT_NEAR(regionAreas(pieces).at(1), 20000.0 + 5.0 * tip, 1e-6);
+}
+
 // A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
