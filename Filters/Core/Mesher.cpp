@@ -12,7 +12,9 @@
 //                       MinimumAngle, boundary edges split at the point of their curve
 //                       nearest their middle, with the curve recovery's callbacks (region
 //                       at a point by the nearest curve's side, curve points that keep
-//                       layers thinner than two margins out) and the smoothing's (slides)
+//                       layers thinner than two margins out) and the smoothing's (slides);
+//                       their curve queries go through a SegmentGrid (StripTree.h) of cells
+//                       half the median longest edge wide, the strip tree where it cannot tell
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation, region areas),
@@ -268,6 +270,64 @@ void refineCompressed(CompressionResult& compressed,
 {
   StripTreeScratch scratch;
   const double onCurveTolerance = 1e-9 * model.size(); // a point this close lies on a curve
+  // The curves' segments in the rails' order (chain by chain) in cells about half the median
+  // longest edge wide: most bounded queries (a triangle's reach) are answered by the cells,
+  // exactly as the strip tree would (see SegmentGrid), and only the others by the tree.
+  std::vector<std::array<int, 2>> segmentOf; // grid segment -> (chain, segment of the chain)
+  double cell = 0.0;
+  const SegmentGrid curveCells = [&]()
+  {
+    std::vector<Vec2> a, b;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+      {
+        a.push_back(c.points[k]);
+        b.push_back(c.points[(k + 1) % c.points.size()]);
+        segmentOf.push_back({ static_cast<int>(ci), static_cast<int>(k) });
+      }
+    }
+    std::vector<double> longest(compressed.triangles.size());
+    for (std::size_t t = 0; t < longest.size(); ++t)
+    {
+      const auto& tri = compressed.triangles[t];
+      const Vec2 p = compressed.points[tri[0]], q = compressed.points[tri[1]],
+                 r = compressed.points[tri[2]];
+      longest[t] = std::max({ norm2(q - p), norm2(r - q), norm2(p - r) });
+    }
+    if (!longest.empty())
+    {
+      std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+      cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
+    }
+    const std::size_t most = std::min<std::size_t>(std::size_t(1) << 22, 4 * longest.size() + 4096);
+    return SegmentGrid(std::move(a), std::move(b), cell, most);
+  }();
+  // rails.closest through the cells when they settle it (the same answer). Without a bound,
+  // the cells within two cells of p are asked: a segment found there is the closest of all.
+  const auto railsClosest = [&](Vec2 p, double* distance, double maxDistance)
+  {
+    NearestSegment s;
+    const bool bounded = maxDistance < HUGE_VAL;
+    if (!curveCells.nearest(p, bounded ? maxDistance : 2.0 * cell, s) ||
+      (!bounded && s.segment < 0))
+    {
+      return rails.closest(p, scratch, distance, maxDistance);
+    }
+    BoundaryRails::Location l;
+    if (s.segment >= 0)
+    {
+      l.chain = segmentOf[s.segment][0];
+      l.segment = segmentOf[s.segment][1];
+      l.t = s.t;
+    }
+    if (distance)
+    {
+      *distance = std::sqrt(s.distance2);
+    }
+    return l;
+  };
   // The closest curve point, remembered for the last point asked: the refinement asks about a
   // triangle's centroid several times in a row.
   struct
@@ -281,7 +341,7 @@ void refineCompressed(CompressionResult& compressed,
     if (!(p == last.p))
     {
       last.p = p;
-      last.location = rails.closest(p, scratch, &last.distance);
+      last.location = railsClosest(p, &last.distance, HUGE_VAL);
     }
     if (distance)
     {
@@ -302,7 +362,7 @@ void refineCompressed(CompressionResult& compressed,
       return last.distance < r ? last.location : BoundaryRails::Location{};
     }
     double d = r;
-    const BoundaryRails::Location l = rails.closest(p, scratch, &d, r);
+    const BoundaryRails::Location l = railsClosest(p, &d, r);
     if (l.chain >= 0)
     {
       last.p = p;
