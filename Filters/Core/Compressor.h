@@ -133,7 +133,7 @@ private:
   std::size_t flipDegenerate();
   std::size_t unblockPushes();
   // --- faces and optimization
-  int regionAt(Vec2 p) { return this->Field.query(p, this->FieldScratch).region; }
+  int regionAt(Vec2 p) { return this->Field.region(p, this->FieldScratch); }
   int vertexRegion(int i);
   int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
   int faceTag(int t);

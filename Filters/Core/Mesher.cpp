@@ -402,7 +402,7 @@ void refineCompressed(CompressionResult& compressed,
         return side > 0.0 ? c.left : c.right;
       }
     }
-    return field.query(p, fieldScratch).region;
+    return field.region(p, fieldScratch);
   };
   if (params.curveRecovery)
   {
