@@ -111,6 +111,7 @@ private:
   void placeJunctions();
   void buildSubMesh();
   void rebuildStars();
+  void updateStars();
   void claimStopPoints();
   void spreadTargets();
   bool nearClaimedStop(const Location& l, double reach) const;
@@ -287,6 +288,11 @@ private:
   std::vector<int> TriGlobal, Level, Tag;
   std::vector<double> RestTwice, MinTwice;
   std::vector<int> StarStart, StarItems;
+  // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
+  // updateStars() (the other buffer, marks) and the triangle count they were built for.
+  std::vector<int> Flipped, StarSpare;
+  std::vector<std::uint8_t> FlippedMark;
+  std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 
   // Per local vertex.
