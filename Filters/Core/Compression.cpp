@@ -1857,11 +1857,60 @@ int Compressor::vertexRegion(int i)
   const int g = this->Global[i];
   const Vec2 x = this->Sys->positions()[i];
   if (this->Cls.vertexClass[g] != VertexBoundary &&
-    norm(x - this->Grid.points[g]) < this->gridDistance(g))
+    this->movedLessThanGridDistance(g, norm(x - this->Grid.points[g])))
   {
     return this->Cls.vertexRegion[g];
   }
   return this->regionAt(x);
+}
+
+// moved < gridDistance(g), without the strip-tree query when the cells near the curves show
+// that no curve lies within `moved` of the grid point (the tree's distance is then larger).
+bool Compressor::movedLessThanGridDistance(int g, double moved)
+{
+  const bool known = !std::isnan(this->Distance[g]) ||
+    (this->Grid.pointBoundaryDistance.size() == this->Grid.points.size() &&
+      !std::isnan(this->Grid.pointBoundaryDistance[g]));
+  if (!known)
+  {
+    if (!this->CurveCells)
+    {
+      // Cells half the median longest edge of the sub-mesh wide (every 16th triangle).
+      std::vector<Vec2> a, b;
+      for (std::size_t ci = 0; ci < this->Rails.numberOfChains(); ++ci)
+      {
+        const BoundaryRails::Chain& c = this->Rails.chain(static_cast<int>(ci));
+        for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+        {
+          a.push_back(c.points[k]);
+          b.push_back(c.points[(k + 1) % c.points.size()]);
+        }
+      }
+      const std::vector<Vec2>& x = this->Sys->positions();
+      std::vector<double> longest;
+      for (std::size_t t = 0; t < this->Tri.size(); t += 16)
+      {
+        const std::array<int, 3>& tri = this->Tri[t];
+        longest.push_back(std::max({ norm2(x[tri[1]] - x[tri[0]]),
+          norm2(x[tri[2]] - x[tri[1]]),
+          norm2(x[tri[0]] - x[tri[2]]) }));
+      }
+      double cell = 0.0;
+      if (!longest.empty())
+      {
+        std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+        cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
+      }
+      const std::size_t most =
+        std::min<std::size_t>(std::size_t(1) << 22, 4 * this->Tri.size() + 4096);
+      this->CurveCells = std::make_unique<SegmentGrid>(std::move(a), std::move(b), cell, most);
+    }
+    if (this->CurveCells->noneWithin(this->Grid.points[g], moved))
+    {
+      return true;
+    }
+  }
+  return moved < this->gridDistance(g);
 }
 
 // Region of the face (a, b, c) at the given positions: the common region of its corners off

@@ -107,6 +107,7 @@ private:
   void buildGlobalStars();
   bool isBorderVertex(int g) const;
   double gridDistance(int g);
+  bool movedLessThanGridDistance(int g, double moved);
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
@@ -269,6 +270,7 @@ private:
   CompressionResult& Result;
   BoundaryRails Rails;
   StripTreeScratch RailScratch;
+  std::unique_ptr<SegmentGrid> CurveCells; // the rails' segments (for vertexRegion), when asked
   DistanceField::Scratch FieldScratch;
   Guard TheGuard;
 
