@@ -17,7 +17,8 @@
 //                       half the median longest edge wide, the strip tree where it cannot tell
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
-//                       Shared curves, summary (angles, boundary deviation, region areas),
+//                       Shared curves, summary (angles, boundary deviation both ways, its
+//                       distances through SegmentGrids first, region areas),
 //                       regions keeping less than half their area reported by id
 // Nothing is kept between calls.
 #include "Mesher.h"
@@ -1031,6 +1032,57 @@ MesherResult triangulate(const RawPolylines& input,
   // Deviation of the approximated boundary from the input curves, both ways.
   {
     double maxVertex = 0.0, maxMeshToModel = 0.0;
+    // Distances through SegmentGrids (cells the median boundary edge wide) when they tell,
+    // within two cells, the same distance as the strip trees.
+    double cell = 0.0;
+    {
+      std::vector<double> lengths;
+      for (const MesherResult::BoundaryCurve& c : result.boundary)
+      {
+        for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
+        {
+          lengths.push_back(norm2(c.points[i + 1] - c.points[i]));
+        }
+      }
+      if (!lengths.empty())
+      {
+        std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+        cell = std::sqrt(lengths[lengths.size() / 2]);
+      }
+    }
+    const auto cellsOf = [&](std::vector<Vec2> from, std::vector<Vec2> to)
+    {
+      const std::size_t most = std::min<std::size_t>(std::size_t(1) << 22, 64 * from.size() + 4096);
+      return SegmentGrid(std::move(from), std::move(to), cell, most);
+    };
+    // The squared distance from p to the cells' segments, when found within two cells.
+    const auto near2 = [&](const SegmentGrid& cells, Vec2 p, double& d2)
+    {
+      const double r = 2.0 * cell;
+      return cells.nearestDistance2(p, r, d2) && d2 < r * r;
+    };
+    std::vector<Vec2> railA, railB;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+      {
+        railA.push_back(c.points[k]);
+        railB.push_back(c.points[(k + 1) % c.points.size()]);
+      }
+    }
+    const SegmentGrid railCells = cellsOf(std::move(railA), std::move(railB));
+    // The distance to the curves, as rails.closest gives it.
+    const auto toCurves = [&](Vec2 p)
+    {
+      double d = 0.0;
+      if (near2(railCells, p, d))
+      {
+        return std::sqrt(d);
+      }
+      rails.closest(p, scratch, &d);
+      return d;
+    };
     std::vector<Vec2> a, b;
     for (const MesherResult::BoundaryCurve& c : result.boundary)
     {
@@ -1039,26 +1091,29 @@ MesherResult triangulate(const RawPolylines& input,
         poll();
         a.push_back(c.points[i]);
         b.push_back(c.points[i + 1]);
-        double d = 0.0;
-        rails.closest(c.points[i], scratch, &d);
-        maxVertex = std::max(maxVertex, d);
+        maxVertex = std::max(maxVertex, toCurves(c.points[i]));
         for (double f : { 0.2, 0.4, 0.6, 0.8 })
         {
-          rails.closest(c.points[i] + f * (c.points[i + 1] - c.points[i]), scratch, &d);
+          const double d = toCurves(c.points[i] + f * (c.points[i + 1] - c.points[i]));
           maxMeshToModel = std::max(maxMeshToModel, d);
         }
       }
       if (!c.points.empty())
       {
-        double d = 0.0;
-        rails.closest(c.points.back(), scratch, &d);
-        maxVertex = std::max(maxVertex, d);
+        maxVertex = std::max(maxVertex, toCurves(c.points.back()));
       }
     }
     double maxModelToMesh = 0.0;
     if (!a.empty())
     {
       const StripTree tree(a, b);
+      const SegmentGrid meshCells = cellsOf(a, b);
+      // The distance to the mesh's boundary, as the tree gives it.
+      const auto toMesh = [&](Vec2 p)
+      {
+        double d2 = 0.0;
+        return std::sqrt(near2(meshCells, p, d2) ? d2 : tree.nearest(p, scratch).distance2);
+      };
       for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
       {
         const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
@@ -1069,14 +1124,12 @@ MesherResult triangulate(const RawPolylines& input,
           const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
           for (double f : { 0.0, 0.2, 0.4, 0.6, 0.8 })
           {
-            const NearestSegment s = tree.nearest(p + f * (r - p), scratch);
-            maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+            maxModelToMesh = std::max(maxModelToMesh, toMesh(p + f * (r - p)));
           }
         }
         if (!c.closed && n > 0)
         {
-          const NearestSegment s = tree.nearest(c.points.back(), scratch);
-          maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+          maxModelToMesh = std::max(maxModelToMesh, toMesh(c.points.back()));
         }
       }
     }

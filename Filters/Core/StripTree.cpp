@@ -74,7 +74,8 @@
 // the listed ones (at most 64 cells) are scanned with the tree's own segment distance, and a
 // single closest one is exactly what the tree returns (its result is the minimum over all
 // segments, see Query). Ties (the two segments of a vertex, duplicated segments) are left to
-// the tree, which takes whichever it meets first. The caller picks the cell size.
+// the tree, which takes whichever it meets first, except by nearestDistance2(), for which
+// the tied segments' common distance is the answer. The caller picks the cell size.
 #include "StripTree.h"
 
 #include "Errors.h"
@@ -761,6 +762,23 @@ bool SegmentGrid::noneWithin(Vec2 p, double r) const
 
 bool SegmentGrid::nearest(Vec2 p, double r, NearestSegment& nearest) const
 {
+  return this->scan(p, r, false, nearest);
+}
+
+bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
+{
+  NearestSegment n;
+  if (!this->scan(p, r, true, n))
+  {
+    return false;
+  }
+  distance2 = n.distance2;
+  return true;
+}
+
+// With ties: a tie settles the distance (not the segment).
+bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const
+{
   const double reach = r * (1.0 + 1e-9);
   if (this->Prefix.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
     !std::isfinite(p.y))
@@ -811,7 +829,7 @@ bool SegmentGrid::nearest(Vec2 p, double r, NearestSegment& nearest) const
           }
         }
       }
-      if (tie)
+      if (tie && !ties)
       {
         return false;
       }

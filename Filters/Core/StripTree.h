@@ -94,8 +94,13 @@ public:
   /// one (its squared distance below those of all others). False (nearest untouched) for a
   /// tie, a box of more than 64 cells, or a NaN or infinite p or r.
   bool nearest(Vec2 p, double r, NearestSegment& nearest) const;
+  /// The squared distance of nearest(p, r), also for ties: true with what StripTree::nearest
+  /// gives as distance2, false (distance2 untouched) when the cells cannot tell.
+  bool nearestDistance2(Vec2 p, double r, double& distance2) const;
 
 private:
+  bool scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const;
+
   // Cell index of coordinate v along an axis starting at lo, clamped to [-1, count].
   int cellOf(double v, double lo, int count) const;
 

@@ -618,7 +618,8 @@ namespace
 {
 
 // Whenever a SegmentGrid settles a bounded query, its answer is bit for bit the strip tree's
-// (segment, squared distance, parameter), and noneWithin() only when the tree finds nothing:
+// (segment, squared distance, parameter), nearestDistance2() the tree's squared distance even
+// for ties, and noneWithin() only when the tree finds nothing:
 // random points, the vertices and points beside them (ties between the two segments of a
 // vertex), radii from a tenth of a cell to ten cells, three cell sizes.
 std::size_t compareGridWithTree(const Segments& s,
@@ -627,6 +628,7 @@ std::size_t compareGridWithTree(const Segments& s,
   std::size_t& settled,
   std::size_t& queries)
 {
+  std::size_t settledDistances = 0;
   const StripTree tree(s.a, s.b);
   const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
   StripTreeScratch scratch;
@@ -650,8 +652,14 @@ std::size_t compareGridWithTree(const Segments& s,
         wrong += g.segment != -7; // untouched
       }
       wrong += grid.noneWithin(p, r) && t.segment >= 0;
+      double d2 = -1.0;
+      const bool told = grid.nearestDistance2(p, r, d2);
+      wrong += told ? d2 != t.distance2 : d2 != -1.0;
+      settledDistances += told;
     }
   }
+  // Ties settle the distance too.
+  wrong += settledDistances < settled;
   return wrong;
 }
 
