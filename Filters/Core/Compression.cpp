@@ -1162,8 +1162,7 @@ void Compressor::updateStars()
     }
   }
   std::sort(now.begin(), now.end());
-  std::vector<int>& items = this->StarSpare;
-  items.resize(this->StarItems.size());
+  std::vector<int> items(this->StarItems.size()); // (freed with the old items on return)
   const int* old = this->StarItems.data();
   int* out = items.data();
   int copied = 0; // old items copied or replaced so far
@@ -1902,7 +1901,7 @@ bool Compressor::movedLessThanGridDistance(int g, double moved)
         cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
       }
       const std::size_t most =
-        std::min<std::size_t>(std::size_t(1) << 22, 4 * this->Tri.size() + 4096);
+        std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
       this->CurveCells = std::make_unique<SegmentGrid>(std::move(a), std::move(b), cell, most);
     }
     if (this->CurveCells->noneWithin(this->Grid.points[g], moved))

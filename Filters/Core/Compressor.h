@@ -291,8 +291,8 @@ private:
   std::vector<double> RestTwice, MinTwice;
   std::vector<int> StarStart, StarItems;
   // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
-  // updateStars() (the other buffer, marks) and the triangle count they were built for.
-  std::vector<int> Flipped, StarSpare;
+  // updateStars() (marks) and the triangle count they were built for.
+  std::vector<int> Flipped;
   std::vector<std::uint8_t> FlippedMark;
   std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;

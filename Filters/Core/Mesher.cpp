@@ -302,7 +302,7 @@ void refineCompressed(CompressionResult& compressed,
       std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
       cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
     }
-    const std::size_t most = std::min<std::size_t>(std::size_t(1) << 22, 4 * longest.size() + 4096);
+    const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * longest.size() + 4096);
     return SegmentGrid(std::move(a), std::move(b), cell, most);
   }();
   // rails.closest through the cells when they settle it (the same answer). Without a bound,
@@ -1052,7 +1052,7 @@ MesherResult triangulate(const RawPolylines& input,
     }
     const auto cellsOf = [&](std::vector<Vec2> from, std::vector<Vec2> to)
     {
-      const std::size_t most = std::min<std::size_t>(std::size_t(1) << 22, 64 * from.size() + 4096);
+      const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 16 * from.size() + 4096);
       return SegmentGrid(std::move(from), std::move(to), cell, most);
     };
     // The squared distance from p to the cells' segments, when found within two cells.

@@ -67,8 +67,8 @@
 // A filter in front of bounded queries (nearest(p, scratch, r) with r about a cell) near and
 // far from the segments: square cells over the segments' box; each segment is listed in every
 // cell it passes within the margin (1e-10 of the coordinates' magnitude) of (clipped to each
-// row it crosses; CSR lists, segments in order), and the prefix sums of the non-empty cells
-// test any rectangle of cells with four reads. The cells meeting the box of the disc of
+// row it crosses; CSR lists, segments in order, so that a row of cells is tested empty with
+// two reads). The cells meeting the box of the disc of
 // radius r (1 + 1e-9) around p hold every segment within r + margin of p, far more than the
 // rounding of the distances: when none is listed there, the tree finds none within r; else
 // the listed ones (at most 64 cells) are scanned with the tree's own segment distance, and a
@@ -703,28 +703,21 @@ SegmentGrid::SegmentGrid(std::vector<Vec2> a,
   {
     ++this->Start[e.first + 1];
   }
-  std::vector<std::uint8_t> marked(cells, 0);
   for (std::size_t c = 0; c < cells; ++c)
   {
-    marked[c] = this->Start[c + 1] > 0;
     this->Start[c + 1] += this->Start[c];
   }
+  // Filled with the starts as cursors (each ends at the next cell's start), then shifted back.
   this->Items.resize(near.size());
-  std::vector<std::uint32_t> fill(this->Start.begin(), this->Start.end() - 1);
   for (const auto& e : near)
   {
-    this->Items[fill[e.first]++] = e.second;
+    this->Items[this->Start[e.first]++] = e.second;
   }
-  this->Prefix.assign((nx + 1) * (static_cast<std::size_t>(this->Ny) + 1), 0);
-  for (std::size_t j = 0; j < static_cast<std::size_t>(this->Ny); ++j)
+  for (std::size_t c = cells; c > 0; --c)
   {
-    std::uint32_t row = 0;
-    for (std::size_t i = 0; i < nx; ++i)
-    {
-      row += marked[j * nx + i];
-      this->Prefix[(j + 1) * (nx + 1) + i + 1] = this->Prefix[j * (nx + 1) + i + 1] + row;
-    }
+    this->Start[c] = this->Start[c - 1];
   }
+  this->Start[0] = 0;
 }
 
 int SegmentGrid::cellOf(double v, double lo, int count) const
@@ -740,7 +733,7 @@ int SegmentGrid::cellOf(double v, double lo, int count) const
 bool SegmentGrid::noneWithin(Vec2 p, double r) const
 {
   const double reach = r * (1.0 + 1e-9);
-  if (this->Prefix.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
     !std::isfinite(p.y))
   {
     return false;
@@ -749,15 +742,30 @@ bool SegmentGrid::noneWithin(Vec2 p, double r) const
   const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
   const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
   const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  return this->emptyCells(i0, i1, j0, j1) == 1;
+}
+
+// 1 when cells [i0, i1] x [j0, j1] list no segment (or the range is empty: beside the grid,
+// which holds every segment), 0 when one does, -1 when there are too many rows to tell.
+int SegmentGrid::emptyCells(int i0, int i1, int j0, int j1) const
+{
   if (i0 > i1 || j0 > j1)
   {
-    return true; // beside the grid, which holds every segment
+    return 1;
   }
-  const std::size_t w = static_cast<std::size_t>(this->Nx) + 1;
-  const std::uint32_t* s = this->Prefix.data();
-  const std::size_t lo = static_cast<std::size_t>(j0) * w;
-  const std::size_t hi = (static_cast<std::size_t>(j1) + 1) * w;
-  return s[hi + i1 + 1] - s[lo + i1 + 1] - s[hi + i0] + s[lo + i0] == 0;
+  if (j1 - j0 >= 256)
+  {
+    return -1;
+  }
+  for (int j = j0; j <= j1; ++j)
+  {
+    const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+    if (this->Start[row + i1 + 1] != this->Start[row + i0])
+    {
+      return 0;
+    }
+  }
+  return 1;
 }
 
 bool SegmentGrid::nearest(Vec2 p, double r, NearestSegment& nearest) const
@@ -780,7 +788,7 @@ bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
 bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const
 {
   const double reach = r * (1.0 + 1e-9);
-  if (this->Prefix.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
     !std::isfinite(p.y))
   {
     return false;
@@ -795,13 +803,11 @@ bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) con
   const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
   if (i0 <= i1 && j0 <= j1)
   {
-    const std::size_t w = static_cast<std::size_t>(this->Nx) + 1;
-    const std::uint32_t* s = this->Prefix.data();
-    const std::size_t lo = static_cast<std::size_t>(j0) * w;
-    const std::size_t hi = (static_cast<std::size_t>(j1) + 1) * w;
-    if (s[hi + i1 + 1] - s[lo + i1 + 1] - s[hi + i0] + s[lo + i0] != 0)
+    // Scanned when at most 64 cells, else only told empty.
+    const bool small = (i1 - i0 + 1) * (j1 - j0 + 1) <= 64;
+    if (small || this->emptyCells(i0, i1, j0, j1) != 1)
     {
-      if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
+      if (!small)
       {
         return false;
       }

@@ -77,7 +77,7 @@ private:
 };
 
 /// Which cells of a uniform grid lie near which segments: answers bounded nearest-segment
-/// queries near the segments, and "no segment lies within r of p" in constant time, when it
+/// queries near the segments, and "no segment lies within r of p" in a few reads, when it
 /// can (see StripTree.cpp); otherwise the caller asks a StripTree over the same segments.
 class SegmentGrid
 {
@@ -103,13 +103,12 @@ private:
 
   // Cell index of coordinate v along an axis starting at lo, clamped to [-1, count].
   int cellOf(double v, double lo, int count) const;
+  int emptyCells(int i0, int i1, int j0, int j1) const;
 
   std::vector<Vec2> A, B;
   Vec2 Origin;
   double Cell = 0.0, InvCell = 0.0, Margin = 0.0;
   int Nx = 0, Ny = 0;
-  // (Nx + 1) (Ny + 1) counts: Prefix[j (Nx + 1) + i] = marked cells in columns < i, rows < j.
-  std::vector<std::uint32_t> Prefix;
   // The segments near cell j Nx + i: Items[Start[j Nx + i] .. Start[j Nx + i + 1]).
   std::vector<std::uint32_t> Start;
   std::vector<int> Items;
