@@ -113,7 +113,7 @@ Classification classify(const TriangleMesh& mesh,
   auto regionOf = [&](Vec2 p)
   {
     ++c.regionQueries;
-    return field.query(p, scratch).region;
+    return field.region(p, scratch);
   };
   // Distance known from the grid, or NaN.
   auto knownDistance = [&](int i)

@@ -23,7 +23,8 @@
 // 3. Simulated zone. Vertices within activeRings edge rings of a candidate or junction vertex
 //    are simulated (never the domain border); the triangles around them form a sub-mesh with
 //    flat local arrays (triangles, neighbours across each edge, spring edge ids, a CSR vertex
-//    -> triangles table); every other vertex keeps its grid position.
+//    -> triangles table, which the simulation's flips update from the stars of the flipped
+//    triangles' vertices only: updateStars); every other vertex keeps its grid position.
 // 4. Simulation (6.1, 6.2). A SpringSystem on the sub-mesh with rest lengths from the grid:
 //    simulated vertices are free particles, pushed and arrived ones are driven, the halo is
 //    fixed. Every step: forces; free particles by semi-implicit Euler; one push step per
@@ -1124,6 +1125,104 @@ void Compressor::rebuildStars()
       this->StarItems[fill[v]++] = static_cast<int>(t);
     }
   }
+  this->Flipped.clear();
+  this->StarTriangles = this->Tri.size();
+}
+
+// The stars after flips only (the simulation's): the same tables as rebuildStars(), which
+// lists every star's triangles in ascending order, computed from the stars before. A flip
+// keeps the four vertices of its two triangles, so only the vertices of the flipped triangles
+// have other stars: each is merged from its old star without the flipped triangles and the
+// flipped triangles that hold it now; the other stars' items are copied in blocks.
+void Compressor::updateStars()
+{
+  const std::size_t nv = this->Global.size();
+  if (this->Tri.size() != this->StarTriangles || this->StarStart.size() != nv + 1)
+  {
+    this->rebuildStars();
+    return;
+  }
+  if (this->Flipped.empty())
+  {
+    return;
+  }
+  std::vector<int>& flipped = this->Flipped;
+  std::sort(flipped.begin(), flipped.end());
+  flipped.erase(std::unique(flipped.begin(), flipped.end()), flipped.end());
+  this->FlippedMark.resize(this->Tri.size(), 0);
+  // (vertex, triangle) of the flipped triangles now, by vertex then triangle.
+  std::vector<std::pair<int, int>> now;
+  now.reserve(3 * flipped.size());
+  for (int t : flipped)
+  {
+    this->FlippedMark[t] = 1;
+    for (int v : this->Tri[t])
+    {
+      now.emplace_back(v, t);
+    }
+  }
+  std::sort(now.begin(), now.end());
+  std::vector<int> items(this->StarItems.size()); // (freed with the old items on return)
+  const int* old = this->StarItems.data();
+  int* out = items.data();
+  int copied = 0; // old items copied or replaced so far
+  int written = 0;
+  int shift = 0; // new start minus old start of the vertices after the last one merged
+  int next = 0;  // first vertex whose start is not shifted yet
+  for (std::size_t k = 0; k < now.size();)
+  {
+    const int v = now[k].first;
+    const int s0 = this->StarStart[v], s1 = this->StarStart[v + 1];
+    // The stars between: copied, their starts shifted.
+    std::copy(old + copied, old + s0, out + written);
+    written += s0 - copied;
+    for (int w = next; w <= v; ++w)
+    {
+      this->StarStart[w] += shift;
+    }
+    // v's star: the old one without the flipped triangles, merged with v's flipped ones.
+    std::size_t end = k;
+    while (end < now.size() && now[end].first == v)
+    {
+      ++end;
+    }
+    int s = s0;
+    const auto skipFlipped = [&]()
+    {
+      while (s < s1 && this->FlippedMark[old[s]])
+      {
+        ++s;
+      }
+    };
+    skipFlipped();
+    for (std::size_t f = k; f < end; ++f)
+    {
+      for (; s < s1 && old[s] < now[f].second; ++s, skipFlipped())
+      {
+        out[written++] = old[s];
+      }
+      out[written++] = now[f].second;
+    }
+    for (; s < s1; ++s, skipFlipped())
+    {
+      out[written++] = old[s];
+    }
+    copied = s1;
+    shift = written - s1;
+    next = v + 1;
+    k = end;
+  }
+  std::copy(old + copied, old + this->StarItems.size(), out + written);
+  for (std::size_t w = static_cast<std::size_t>(next); w <= nv; ++w)
+  {
+    this->StarStart[w] += shift;
+  }
+  this->StarItems.swap(items);
+  for (int t : flipped)
+  {
+    this->FlippedMark[t] = 0;
+  }
+  flipped.clear();
 }
 
 // Whether a claimed stop point (a junction or feature with its vertex) is within arc length
@@ -1513,6 +1612,8 @@ void Compressor::flip(int t, int k)
   const int eAB = this->TriEdge[t][k], eBC = this->TriEdge[t][(k + 1) % 3];
   const int eCA = this->TriEdge[t][(k + 2) % 3];
   const int eAD = this->TriEdge[u][(j + 1) % 3], eDB = this->TriEdge[u][(j + 2) % 3];
+  this->Flipped.push_back(t);
+  this->Flipped.push_back(u);
   this->Tri[t] = { c, a, d };
   this->Nbr[t] = { nCA, nAD, u };
   this->TriEdge[t] = { eCA, eAD, eAB };
@@ -1607,7 +1708,7 @@ std::size_t Compressor::flipDegenerate()
   }
   if (flips > 0)
   {
-    this->rebuildStars();
+    this->updateStars();
   }
   this->Result.flips += flips;
   return flips;
@@ -1628,7 +1729,7 @@ std::size_t Compressor::unblockPushes()
   this->Blocked.clear();
   if (flips > 0)
   {
-    this->rebuildStars();
+    this->updateStars();
   }
   this->Result.flips += flips;
   return flips;
@@ -1755,11 +1856,60 @@ int Compressor::vertexRegion(int i)
   const int g = this->Global[i];
   const Vec2 x = this->Sys->positions()[i];
   if (this->Cls.vertexClass[g] != VertexBoundary &&
-    norm(x - this->Grid.points[g]) < this->gridDistance(g))
+    this->movedLessThanGridDistance(g, norm(x - this->Grid.points[g])))
   {
     return this->Cls.vertexRegion[g];
   }
   return this->regionAt(x);
+}
+
+// moved < gridDistance(g), without the strip-tree query when the cells near the curves show
+// that no curve lies within `moved` of the grid point (the tree's distance is then larger).
+bool Compressor::movedLessThanGridDistance(int g, double moved)
+{
+  const bool known = !std::isnan(this->Distance[g]) ||
+    (this->Grid.pointBoundaryDistance.size() == this->Grid.points.size() &&
+      !std::isnan(this->Grid.pointBoundaryDistance[g]));
+  if (!known)
+  {
+    if (!this->CurveCells)
+    {
+      // Cells half the median longest edge of the sub-mesh wide (every 16th triangle).
+      std::vector<Vec2> a, b;
+      for (std::size_t ci = 0; ci < this->Rails.numberOfChains(); ++ci)
+      {
+        const BoundaryRails::Chain& c = this->Rails.chain(static_cast<int>(ci));
+        for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+        {
+          a.push_back(c.points[k]);
+          b.push_back(c.points[(k + 1) % c.points.size()]);
+        }
+      }
+      const std::vector<Vec2>& x = this->Sys->positions();
+      std::vector<double> longest;
+      for (std::size_t t = 0; t < this->Tri.size(); t += 16)
+      {
+        const std::array<int, 3>& tri = this->Tri[t];
+        longest.push_back(std::max({ norm2(x[tri[1]] - x[tri[0]]),
+          norm2(x[tri[2]] - x[tri[1]]),
+          norm2(x[tri[0]] - x[tri[2]]) }));
+      }
+      double cell = 0.0;
+      if (!longest.empty())
+      {
+        std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+        cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
+      }
+      const std::size_t most =
+        std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
+      this->CurveCells = std::make_unique<SegmentGrid>(std::move(a), std::move(b), cell, most);
+    }
+    if (this->CurveCells->noneWithin(this->Grid.points[g], moved))
+    {
+      return true;
+    }
+  }
+  return moved < this->gridDistance(g);
 }
 
 // Region of the face (a, b, c) at the given positions: the common region of its corners off

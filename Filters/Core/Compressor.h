@@ -107,10 +107,12 @@ private:
   void buildGlobalStars();
   bool isBorderVertex(int g) const;
   double gridDistance(int g);
+  bool movedLessThanGridDistance(int g, double moved);
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
   void rebuildStars();
+  void updateStars();
   void claimStopPoints();
   void spreadTargets();
   bool nearClaimedStop(const Location& l, double reach) const;
@@ -133,7 +135,7 @@ private:
   std::size_t flipDegenerate();
   std::size_t unblockPushes();
   // --- faces and optimization
-  int regionAt(Vec2 p) { return this->Field.query(p, this->FieldScratch).region; }
+  int regionAt(Vec2 p) { return this->Field.region(p, this->FieldScratch); }
   int vertexRegion(int i);
   int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
   int faceTag(int t);
@@ -268,6 +270,7 @@ private:
   CompressionResult& Result;
   BoundaryRails Rails;
   StripTreeScratch RailScratch;
+  std::unique_ptr<SegmentGrid> CurveCells; // the rails' segments (for vertexRegion), when asked
   DistanceField::Scratch FieldScratch;
   Guard TheGuard;
 
@@ -287,6 +290,11 @@ private:
   std::vector<int> TriGlobal, Level, Tag;
   std::vector<double> RestTwice, MinTwice;
   std::vector<int> StarStart, StarItems;
+  // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
+  // updateStars() (marks) and the triangle count they were built for.
+  std::vector<int> Flipped;
+  std::vector<std::uint8_t> FlippedMark;
+  std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 
   // Per local vertex.

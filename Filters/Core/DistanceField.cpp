@@ -41,7 +41,7 @@
 // with signed distance >= 0 (on a boundary shared by several, the largest signed distance,
 // ties to the smallest id). Its signed distance is returned; outside every region, minus the
 // distance to the nearest boundary of any region. boundaryDistance and nearestCurve come from
-// the global tree.
+// the global tree. region(p) is query(p).region without the global tree's query.
 //
 // Threads: everything is const after construction; the only mutable state of a query is the
 // caller's scratch (the search heap), one per thread. Queries do not allocate once the
@@ -297,11 +297,10 @@ double DistanceField::boundaryDistance(Vec2 p, Scratch& scratch, std::int64_t* n
   return std::sqrt(ns.distance2);
 }
 
-PointQuery DistanceField::query(Vec2 p, Scratch& scratch) const
+int DistanceField::regionImpl(Vec2 p, Scratch& scratch, double& best) const
 {
-  PointQuery q;
-  q.boundaryDistance = this->boundaryDistance(p, scratch, &q.nearestCurve);
-  double best = -HUGE_VAL;
+  int region = -1;
+  best = -HUGE_VAL;
   for (const RegionTree& r : this->Regions)
   {
     if (r.bounds.distance2(p) > 0.0)
@@ -309,12 +308,27 @@ PointQuery DistanceField::query(Vec2 p, Scratch& scratch) const
       continue;
     }
     const double sd = this->signedDistanceImpl(r, p, scratch);
-    if (sd >= 0.0 && (sd > best || (sd == best && r.id < q.region)))
+    if (sd >= 0.0 && (sd > best || (sd == best && r.id < region)))
     {
       best = sd;
-      q.region = r.id;
+      region = r.id;
     }
   }
+  return region;
+}
+
+int DistanceField::region(Vec2 p, Scratch& scratch) const
+{
+  double best = 0.0;
+  return this->regionImpl(p, scratch, best);
+}
+
+PointQuery DistanceField::query(Vec2 p, Scratch& scratch) const
+{
+  PointQuery q;
+  q.boundaryDistance = this->boundaryDistance(p, scratch, &q.nearestCurve);
+  double best = 0.0;
+  q.region = this->regionImpl(p, scratch, best);
   q.signedDistance = q.region >= 0 ? best : -q.boundaryDistance;
   return q;
 }

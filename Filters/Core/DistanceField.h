@@ -45,6 +45,8 @@ public:
   double boundaryDistance(Vec2 p, Scratch& scratch, std::int64_t* nearestCurve = nullptr) const;
   /// Everything at once.
   PointQuery query(Vec2 p, Scratch& scratch) const;
+  /// query(p, scratch).region alone (faster: no boundary distance).
+  int region(Vec2 p, Scratch& scratch) const;
 
 private:
   struct RegionTree
@@ -63,6 +65,8 @@ private:
     std::vector<int> starEdges;
   };
   double signedDistanceImpl(const RegionTree& r, Vec2 p, Scratch& scratch) const;
+  // The containing region (-1 for none) and its signed distance in best.
+  int regionImpl(Vec2 p, Scratch& scratch, double& best) const;
 
   std::vector<RegionTree> Regions;
   StripTree All;

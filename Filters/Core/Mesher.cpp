@@ -12,10 +12,13 @@
 //                       MinimumAngle, boundary edges split at the point of their curve
 //                       nearest their middle, with the curve recovery's callbacks (region
 //                       at a point by the nearest curve's side, curve points that keep
-//                       layers thinner than two margins out) and the smoothing's (slides)
+//                       layers thinner than two margins out) and the smoothing's (slides);
+//                       their curve queries go through a SegmentGrid (StripTree.h) of cells
+//                       half the median longest edge wide, the strip tree where it cannot tell
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
-//                       Shared curves, summary (angles, boundary deviation, region areas),
+//                       Shared curves, summary (angles, boundary deviation both ways, its
+//                       distances through SegmentGrids first, region areas),
 //                       regions keeping less than half their area reported by id
 // Nothing is kept between calls.
 #include "Mesher.h"
@@ -268,6 +271,64 @@ void refineCompressed(CompressionResult& compressed,
 {
   StripTreeScratch scratch;
   const double onCurveTolerance = 1e-9 * model.size(); // a point this close lies on a curve
+  // The curves' segments in the rails' order (chain by chain) in cells about half the median
+  // longest edge wide: most bounded queries (a triangle's reach) are answered by the cells,
+  // exactly as the strip tree would (see SegmentGrid), and only the others by the tree.
+  std::vector<std::array<int, 2>> segmentOf; // grid segment -> (chain, segment of the chain)
+  double cell = 0.0;
+  const SegmentGrid curveCells = [&]()
+  {
+    std::vector<Vec2> a, b;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+      {
+        a.push_back(c.points[k]);
+        b.push_back(c.points[(k + 1) % c.points.size()]);
+        segmentOf.push_back({ static_cast<int>(ci), static_cast<int>(k) });
+      }
+    }
+    std::vector<double> longest(compressed.triangles.size());
+    for (std::size_t t = 0; t < longest.size(); ++t)
+    {
+      const auto& tri = compressed.triangles[t];
+      const Vec2 p = compressed.points[tri[0]], q = compressed.points[tri[1]],
+                 r = compressed.points[tri[2]];
+      longest[t] = std::max({ norm2(q - p), norm2(r - q), norm2(p - r) });
+    }
+    if (!longest.empty())
+    {
+      std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+      cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
+    }
+    const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * longest.size() + 4096);
+    return SegmentGrid(std::move(a), std::move(b), cell, most);
+  }();
+  // rails.closest through the cells when they settle it (the same answer). Without a bound,
+  // the cells within two cells of p are asked: a segment found there is the closest of all.
+  const auto railsClosest = [&](Vec2 p, double* distance, double maxDistance)
+  {
+    NearestSegment s;
+    const bool bounded = maxDistance < HUGE_VAL;
+    if (!curveCells.nearest(p, bounded ? maxDistance : 2.0 * cell, s) ||
+      (!bounded && s.segment < 0))
+    {
+      return rails.closest(p, scratch, distance, maxDistance);
+    }
+    BoundaryRails::Location l;
+    if (s.segment >= 0)
+    {
+      l.chain = segmentOf[s.segment][0];
+      l.segment = segmentOf[s.segment][1];
+      l.t = s.t;
+    }
+    if (distance)
+    {
+      *distance = std::sqrt(s.distance2);
+    }
+    return l;
+  };
   // The closest curve point, remembered for the last point asked: the refinement asks about a
   // triangle's centroid several times in a row.
   struct
@@ -281,7 +342,7 @@ void refineCompressed(CompressionResult& compressed,
     if (!(p == last.p))
     {
       last.p = p;
-      last.location = rails.closest(p, scratch, &last.distance);
+      last.location = railsClosest(p, &last.distance, HUGE_VAL);
     }
     if (distance)
     {
@@ -302,7 +363,7 @@ void refineCompressed(CompressionResult& compressed,
       return last.distance < r ? last.location : BoundaryRails::Location{};
     }
     double d = r;
-    const BoundaryRails::Location l = rails.closest(p, scratch, &d, r);
+    const BoundaryRails::Location l = railsClosest(p, &d, r);
     if (l.chain >= 0)
     {
       last.p = p;
@@ -342,7 +403,7 @@ void refineCompressed(CompressionResult& compressed,
         return side > 0.0 ? c.left : c.right;
       }
     }
-    return field.query(p, fieldScratch).region;
+    return field.region(p, fieldScratch);
   };
   if (params.curveRecovery)
   {
@@ -971,6 +1032,57 @@ MesherResult triangulate(const RawPolylines& input,
   // Deviation of the approximated boundary from the input curves, both ways.
   {
     double maxVertex = 0.0, maxMeshToModel = 0.0;
+    // Distances through SegmentGrids (cells the median boundary edge wide) when they tell,
+    // within two cells, the same distance as the strip trees.
+    double cell = 0.0;
+    {
+      std::vector<double> lengths;
+      for (const MesherResult::BoundaryCurve& c : result.boundary)
+      {
+        for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
+        {
+          lengths.push_back(norm2(c.points[i + 1] - c.points[i]));
+        }
+      }
+      if (!lengths.empty())
+      {
+        std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+        cell = std::sqrt(lengths[lengths.size() / 2]);
+      }
+    }
+    const auto cellsOf = [&](std::vector<Vec2> from, std::vector<Vec2> to)
+    {
+      const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 16 * from.size() + 4096);
+      return SegmentGrid(std::move(from), std::move(to), cell, most);
+    };
+    // The squared distance from p to the cells' segments, when found within two cells.
+    const auto near2 = [&](const SegmentGrid& cells, Vec2 p, double& d2)
+    {
+      const double r = 2.0 * cell;
+      return cells.nearestDistance2(p, r, d2) && d2 < r * r;
+    };
+    std::vector<Vec2> railA, railB;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+      {
+        railA.push_back(c.points[k]);
+        railB.push_back(c.points[(k + 1) % c.points.size()]);
+      }
+    }
+    const SegmentGrid railCells = cellsOf(std::move(railA), std::move(railB));
+    // The distance to the curves, as rails.closest gives it.
+    const auto toCurves = [&](Vec2 p)
+    {
+      double d = 0.0;
+      if (near2(railCells, p, d))
+      {
+        return std::sqrt(d);
+      }
+      rails.closest(p, scratch, &d);
+      return d;
+    };
     std::vector<Vec2> a, b;
     for (const MesherResult::BoundaryCurve& c : result.boundary)
     {
@@ -979,26 +1091,29 @@ MesherResult triangulate(const RawPolylines& input,
         poll();
         a.push_back(c.points[i]);
         b.push_back(c.points[i + 1]);
-        double d = 0.0;
-        rails.closest(c.points[i], scratch, &d);
-        maxVertex = std::max(maxVertex, d);
+        maxVertex = std::max(maxVertex, toCurves(c.points[i]));
         for (double f : { 0.2, 0.4, 0.6, 0.8 })
         {
-          rails.closest(c.points[i] + f * (c.points[i + 1] - c.points[i]), scratch, &d);
+          const double d = toCurves(c.points[i] + f * (c.points[i + 1] - c.points[i]));
           maxMeshToModel = std::max(maxMeshToModel, d);
         }
       }
       if (!c.points.empty())
       {
-        double d = 0.0;
-        rails.closest(c.points.back(), scratch, &d);
-        maxVertex = std::max(maxVertex, d);
+        maxVertex = std::max(maxVertex, toCurves(c.points.back()));
       }
     }
     double maxModelToMesh = 0.0;
     if (!a.empty())
     {
       const StripTree tree(a, b);
+      const SegmentGrid meshCells = cellsOf(a, b);
+      // The distance to the mesh's boundary, as the tree gives it.
+      const auto toMesh = [&](Vec2 p)
+      {
+        double d2 = 0.0;
+        return std::sqrt(near2(meshCells, p, d2) ? d2 : tree.nearest(p, scratch).distance2);
+      };
       for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
       {
         const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
@@ -1009,14 +1124,12 @@ MesherResult triangulate(const RawPolylines& input,
           const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
           for (double f : { 0.0, 0.2, 0.4, 0.6, 0.8 })
           {
-            const NearestSegment s = tree.nearest(p + f * (r - p), scratch);
-            maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+            maxModelToMesh = std::max(maxModelToMesh, toMesh(p + f * (r - p)));
           }
         }
         if (!c.closed && n > 0)
         {
-          const NearestSegment s = tree.nearest(c.points.back(), scratch);
-          maxModelToMesh = std::max(maxModelToMesh, std::sqrt(s.distance2));
+          maxModelToMesh = std::max(maxModelToMesh, toMesh(c.points.back()));
         }
       }
     }

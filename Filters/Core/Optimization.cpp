@@ -10,7 +10,9 @@
 //    when the restrain test allows, flipping the edges that block it when valid, as a last
 //    resort accepting 0.1% of the rest area; a vertex still heading for a junction hands the
 //    junction to a neighbour that can take it; an edge joining two off-curve vertices of
-//    different regions that neither can leave is flipped away when valid.
+//    different regions that neither can leave is flipped away when valid. (After flips the
+//    vertex stars are updated from the flipped triangles only, Compressor::updateStars; after
+//    splits and collapses they are rebuilt.)
 //    (b) Boundary refinement (the simulation is over: from here on new vertices and edges
 //    carry no springs): an edge between faces of different regions whose two ends are on one
 //    chain (the chain whose sides carry those two regions, walked in the direction that keeps
@@ -141,7 +143,7 @@ bool Compressor::placeOnCurve(int i, const Location& target, double minFraction)
     {
       return false;
     }
-    this->rebuildStars();
+    this->updateStars();
   }
   return false;
 }
@@ -270,7 +272,7 @@ std::size_t Compressor::snapBoundaryVertices()
         }
         if (flipped)
         {
-          this->rebuildStars();
+          this->updateStars();
           ++moved;
         }
         continue;
@@ -328,7 +330,7 @@ std::size_t Compressor::optimizeFlips()
   }
   if (flips > 0)
   {
-    this->rebuildStars();
+    this->updateStars();
   }
   return flips;
 }

@@ -11,6 +11,11 @@
 // Spring sets are flat arrays indexed by edge id and by triangle corner; the loops read the
 // positions and velocities through raw pointers and allocate nothing. Particles marked Driven
 // or Fixed receive forces but are not integrated: the caller moves driven ones itself.
+// With SSE2 both loops evaluate two springs (edges, or triangles corner by corner) at once,
+// with the scalar kernels' operations in the same order, then add the forces one spring after
+// the other as the scalar loop does: every particle's sums are bit for bit the same. The
+// triangle loop prefetches the corners of the triangles eight pairs ahead (it waits on memory
+// more than on its divisions).
 #include "SpringSystem.h"
 
 #include "Errors.h"
@@ -19,6 +24,10 @@
 #include <cmath>
 #include <string>
 #include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace strata
 {
@@ -154,6 +163,46 @@ inline Vec2 projectionKernel(Vec2 dx, double x02, double ks, double& stiffness)
   const double m = ks * (1.0 - q);
   return { -m * dx.x, -m * dx.y };
 }
+
+inline void prefetch(const void* address)
+{
+#if defined(__GNUC__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
+}
+
+#if defined(__SSE2__)
+// The kernels on two springs at once (lane 0 and lane 1): the same operations in the same
+// order, so bit for bit the scalar results (the branches become selects).
+inline __m128d selectPd(__m128d mask, __m128d x, __m128d y)
+{
+  return _mm_or_pd(_mm_and_pd(mask, x), _mm_andnot_pd(mask, y));
+}
+
+inline void edgeKernel2(__m128d dxx,
+  __m128d dxy,
+  __m128d dvx,
+  __m128d dvy,
+  __m128d x0,
+  double ks,
+  double kd,
+  double fx[2],
+  double fy[2])
+{
+  const __m128d l2 = _mm_add_pd(_mm_mul_pd(dxx, dxx), _mm_mul_pd(dxy, dxy));
+  const __m128d zero = _mm_cmpeq_pd(l2, _mm_setzero_pd());
+  const __m128d inv = _mm_div_pd(_mm_set1_pd(1.0), _mm_sqrt_pd(l2));
+  const __m128d dvdx = _mm_add_pd(_mm_mul_pd(dvx, dxx), _mm_mul_pd(dvy, dxy));
+  const __m128d m =
+    _mm_add_pd(_mm_mul_pd(_mm_set1_pd(ks), _mm_sub_pd(_mm_set1_pd(1.0), _mm_mul_pd(x0, inv))),
+      _mm_mul_pd(_mm_mul_pd(_mm_mul_pd(_mm_set1_pd(kd), dvdx), inv), inv));
+  const __m128d negM = _mm_xor_pd(m, _mm_set1_pd(-0.0));
+  _mm_storeu_pd(fx, _mm_andnot_pd(zero, _mm_mul_pd(negM, dxx)));
+  _mm_storeu_pd(fy, _mm_andnot_pd(zero, _mm_mul_pd(negM, dxy)));
+}
+#endif
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -185,7 +234,44 @@ void EdgeSprings::addForces(const SpringMesh& mesh,
   const int* subset = s.edges ? s.edges->data() : nullptr;
   const std::array<int, 2>* edges = mesh.edges.data();
   const double* rest = this->Rest.data();
-  for (std::size_t i = 0; i < n; ++i)
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  // Two springs at a time, their forces added in order as below.
+  for (; i + 1 < n; i += 2)
+  {
+    const std::size_t e0 = subset ? static_cast<std::size_t>(subset[i]) : i;
+    const std::size_t e1 = subset ? static_cast<std::size_t>(subset[i + 1]) : i + 1;
+    const int a0 = edges[e0][0], b0 = edges[e0][1], a1 = edges[e1][0], b1 = edges[e1][1];
+    const Vec2 dx0 = s.x[a0] - s.x[b0], dx1 = s.x[a1] - s.x[b1];
+    const Vec2 dv0 = s.v[a0] - s.v[b0], dv1 = s.v[a1] - s.v[b1];
+    double fx[2], fy[2];
+    edgeKernel2(_mm_set_pd(dx1.x, dx0.x),
+      _mm_set_pd(dx1.y, dx0.y),
+      _mm_set_pd(dv1.x, dv0.x),
+      _mm_set_pd(dv1.y, dv0.y),
+      _mm_set_pd(rest[e1], rest[e0]),
+      ks,
+      kd,
+      fx,
+      fy);
+    const Vec2 f0{ fx[0], fy[0] }, f1{ fx[1], fy[1] };
+    s.f[a0] = s.f[a0] + f0;
+    s.f[b0] = s.f[b0] - f0;
+    if (s.k)
+    {
+      s.k[a0] += ks;
+      s.k[b0] += ks;
+    }
+    s.f[a1] = s.f[a1] + f1;
+    s.f[b1] = s.f[b1] - f1;
+    if (s.k)
+    {
+      s.k[a1] += ks;
+      s.k[b1] += ks;
+    }
+  }
+#endif
+  for (; i < n; ++i)
   {
     const std::size_t e = subset ? static_cast<std::size_t>(subset[i]) : i;
     const int a = edges[e][0], b = edges[e][1];
@@ -254,7 +340,96 @@ void ProjectionSprings::addForces(const SpringMesh& mesh,
   const int* subset = s.triangles ? s.triangles->data() : nullptr;
   const std::array<int, 3>* tris = mesh.triangles.data();
   const double* rest = this->Rest.data();
-  for (std::size_t j = 0; j < n; ++j)
+  std::size_t j = 0;
+#if defined(__SSE2__)
+  // Two triangles at a time (lane 0 and lane 1), corner by corner; the forces are added in
+  // order as below, those of the first triangle first.
+  const __m128d ksv = _mm_set1_pd(ks), one = _mm_set1_pd(1.0), zero = _mm_setzero_pd();
+  for (; j + 1 < n; j += 2)
+  {
+    if (j + 16 < n)
+    {
+      // The memory of the triangles a few pairs ahead (the loop waits on it, not on the
+      // arithmetic): their corners' positions and forces, then further ahead their corners.
+      const std::size_t ahead = subset ? static_cast<std::size_t>(subset[j + 16]) : j + 16;
+      prefetch(tris + ahead);
+      prefetch(rest + 3 * ahead);
+      const std::size_t near = subset ? static_cast<std::size_t>(subset[j + 8]) : j + 8;
+      for (int k = 0; k < 3; ++k)
+      {
+        prefetch(s.x + tris[near][k]);
+        prefetch(s.f + tris[near][k]);
+        if (s.k)
+        {
+          prefetch(s.k + tris[near][k]);
+        }
+      }
+    }
+    const std::size_t t0 = subset ? static_cast<std::size_t>(subset[j]) : j;
+    const std::size_t t1 = subset ? static_cast<std::size_t>(subset[j + 1]) : j + 1;
+    const int v[2][3] = { { tris[t0][0], tris[t0][1], tris[t0][2] },
+      { tris[t1][0], tris[t1][1], tris[t1][2] } };
+    __m128d px[3], py[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec2 q0 = s.x[v[0][k]], q1 = s.x[v[1][k]];
+      px[k] = _mm_set_pd(q1.x, q0.x);
+      py[k] = _mm_set_pd(q1.y, q0.y);
+    }
+    double u[3][2], fx[3][2], fy[3][2], stiffness[3][2];
+    int valid[3];
+    for (int k = 0; k < 3; ++k)
+    {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      // Edge a -> b is opposite corner k.
+      const __m128d ex = _mm_sub_pd(px[b], px[a]), ey = _mm_sub_pd(py[b], py[a]);
+      const __m128d x0 = _mm_set_pd(rest[3 * t1 + k], rest[3 * t0 + k]);
+      const __m128d len2 = _mm_add_pd(_mm_mul_pd(ex, ex), _mm_mul_pd(ey, ey));
+      valid[k] = _mm_movemask_pd(_mm_and_pd(_mm_cmpgt_pd(x0, zero), _mm_cmpgt_pd(len2, zero)));
+      const __m128d rx = _mm_sub_pd(px[k], px[a]), ry = _mm_sub_pd(py[k], py[a]);
+      __m128d w = _mm_div_pd(_mm_add_pd(_mm_mul_pd(rx, ex), _mm_mul_pd(ry, ey)), len2);
+      // std::clamp(w, 0, 1): 0 below, 1 above, else w (NaN included).
+      w = selectPd(_mm_cmplt_pd(w, zero), zero, w);
+      w = selectPd(_mm_cmplt_pd(one, w), one, w);
+      const __m128d dx = _mm_sub_pd(rx, _mm_mul_pd(w, ex));
+      const __m128d dy = _mm_sub_pd(ry, _mm_mul_pd(w, ey));
+      const __m128d l2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+      const __m128d isZero = _mm_cmpeq_pd(l2, zero);
+      const __m128d q = _mm_div_pd(_mm_mul_pd(x0, x0), l2);
+      const __m128d m = _mm_mul_pd(ksv, _mm_sub_pd(one, q));
+      const __m128d negM = _mm_xor_pd(m, _mm_set1_pd(-0.0));
+      _mm_storeu_pd(u[k], w);
+      _mm_storeu_pd(stiffness[k], _mm_andnot_pd(isZero, _mm_mul_pd(ksv, _mm_add_pd(one, q))));
+      _mm_storeu_pd(fx[k], _mm_andnot_pd(isZero, _mm_mul_pd(negM, dx)));
+      _mm_storeu_pd(fy[k], _mm_andnot_pd(isZero, _mm_mul_pd(negM, dy)));
+    }
+    for (int lane = 0; lane < 2; ++lane)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        if (!(valid[k] >> lane & 1))
+        {
+          continue;
+        }
+        const int a = (k + 1) % 3, b = (k + 2) % 3;
+        const int* w = v[lane];
+        const double uk = u[k][lane];
+        const Vec2 f{ fx[k][lane], fy[k][lane] };
+        s.f[w[k]] = s.f[w[k]] + f;
+        s.f[w[a]] = s.f[w[a]] - (1.0 - uk) * f;
+        s.f[w[b]] = s.f[w[b]] - uk * f;
+        if (s.k)
+        {
+          const double sk = stiffness[k][lane];
+          s.k[w[k]] += sk;
+          s.k[w[a]] += (1.0 - uk) * sk;
+          s.k[w[b]] += uk * sk;
+        }
+      }
+    }
+  }
+#endif
+  for (; j < n; ++j)
   {
     const std::size_t t = subset ? static_cast<std::size_t>(subset[j]) : j;
     const int v[3] = { tris[t][0], tris[t][1], tris[t][2] };

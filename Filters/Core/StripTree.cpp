@@ -61,6 +61,21 @@
 // unpredictable (SSE2 min, max and selects; a mispredicted branch costs as much as a bound).
 // About 28 expansions and 18 segment distances per query for 1e6 segments (points uniform in
 // the curve's box).
+//
+// SegmentGrid
+// -----------
+// A filter in front of bounded queries (nearest(p, scratch, r) with r about a cell) near and
+// far from the segments: square cells over the segments' box; each segment is listed in every
+// cell it passes within the margin (1e-10 of the coordinates' magnitude) of (clipped to each
+// row it crosses; CSR lists, segments in order, so that a row of cells is tested empty with
+// two reads). The cells meeting the box of the disc of
+// radius r (1 + 1e-9) around p hold every segment within r + margin of p, far more than the
+// rounding of the distances: when none is listed there, the tree finds none within r; else
+// the listed ones (at most 64 cells) are scanned with the tree's own segment distance, and a
+// single closest one is exactly what the tree returns (its result is the minimum over all
+// segments, see Query). Ties (the two segments of a vertex, duplicated segments) are left to
+// the tree, which takes whichever it meets first, except by nearestDistance2(), for which
+// the tied segments' common distance is the answer. The caller picks the cell size.
 #include "StripTree.h"
 
 #include "Errors.h"
@@ -582,6 +597,254 @@ NearestSegment StripTree::nearest(Vec2 p, StripTreeScratch& scratch, double maxD
     }
   }
   return finish();
+}
+
+//------------------------------------------------------------------------------
+// SegmentGrid (see the top of the file).
+SegmentGrid::SegmentGrid(std::vector<Vec2> a,
+  std::vector<Vec2> b,
+  double cellSize,
+  std::size_t maxCells)
+  : A(std::move(a))
+  , B(std::move(b))
+{
+  if (this->A.size() != this->B.size())
+  {
+    throw ParameterError("SegmentGrid: " + std::to_string(this->A.size()) + " segment starts but " +
+      std::to_string(this->B.size()) + " segment ends");
+  }
+  if (this->A.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+  {
+    throw ParameterError("SegmentGrid: too many segments (" + std::to_string(this->A.size()) + ")");
+  }
+  Box2 box;
+  for (std::size_t i = 0; i < this->A.size(); ++i)
+  {
+    box.add(this->A[i]);
+    box.add(this->B[i]);
+  }
+  if (box.empty() || !std::isfinite(box.min.x) || !std::isfinite(box.min.y) ||
+    !std::isfinite(box.max.x) || !std::isfinite(box.max.y))
+  {
+    return; // no grid: the queries answer false
+  }
+  const double scale = std::max({ std::abs(box.min.x),
+    std::abs(box.min.y),
+    std::abs(box.max.x),
+    std::abs(box.max.y),
+    box.width(),
+    box.height() });
+  this->Margin = std::max(1e-10 * scale, 1e-300);
+  this->Origin = Vec2{ box.min.x - 2.0 * this->Margin, box.min.y - 2.0 * this->Margin };
+  const double width = box.width() + 4.0 * this->Margin;
+  const double height = box.height() + 4.0 * this->Margin;
+  double cell = cellSize > 0.0 && std::isfinite(cellSize) ? cellSize : std::max(width, height);
+  const double most = static_cast<double>(std::max<std::size_t>(maxCells, 1));
+  for (;;)
+  {
+    const double nx = std::max(1.0, std::ceil(width / cell));
+    const double ny = std::max(1.0, std::ceil(height / cell));
+    if (nx * ny <= most)
+    {
+      this->Nx = static_cast<int>(nx);
+      this->Ny = static_cast<int>(ny);
+      break;
+    }
+    cell *= std::max(1.01, 0.5 * std::sqrt(nx * ny / most));
+  }
+  this->Cell = cell;
+  this->InvCell = 1.0 / cell;
+  const std::size_t nx = static_cast<std::size_t>(this->Nx);
+  const std::size_t cells = nx * static_cast<std::size_t>(this->Ny);
+  // (cell, segment) for every cell a segment passes within the margin of, in segment order.
+  std::vector<std::pair<std::uint32_t, int>> near;
+  const double m = this->Margin;
+  for (std::size_t s = 0; s < this->A.size(); ++s)
+  {
+    const Vec2 p = this->A[s], q = this->B[s];
+    const double dx = q.x - p.x, dy = q.y - p.y;
+    const int j0 = std::max(0, this->cellOf(std::min(p.y, q.y) - m, this->Origin.y, this->Ny));
+    const int j1 =
+      std::min(this->Ny - 1, this->cellOf(std::max(p.y, q.y) + m, this->Origin.y, this->Ny));
+    // Nearly horizontal: the whole x range in every row (the clipped one below would round
+    // by more than the margin).
+    const bool flat = !(std::abs(dy) > 1e-4 * std::abs(dx));
+    for (int j = j0; j <= j1; ++j)
+    {
+      double xlo = std::min(p.x, q.x), xhi = std::max(p.x, q.x);
+      if (!flat)
+      {
+        // The part of the segment within the row's band widened by the margin.
+        const double ylo = this->Origin.y + j * cell - m;
+        const double yhi = this->Origin.y + (j + 1) * cell + m;
+        double t0 = (ylo - p.y) / dy, t1 = (yhi - p.y) / dy;
+        if (t1 < t0)
+        {
+          std::swap(t0, t1);
+        }
+        t0 = std::clamp(t0, 0.0, 1.0);
+        t1 = std::clamp(t1, 0.0, 1.0);
+        const double x0 = p.x + t0 * dx, x1 = p.x + t1 * dx;
+        xlo = std::max(xlo, std::min(x0, x1));
+        xhi = std::min(xhi, std::max(x0, x1));
+      }
+      const int i0 = std::max(0, this->cellOf(xlo - m, this->Origin.x, this->Nx));
+      const int i1 = std::min(this->Nx - 1, this->cellOf(xhi + m, this->Origin.x, this->Nx));
+      for (int i = i0; i <= i1; ++i)
+      {
+        near.emplace_back(static_cast<std::uint32_t>(
+                            static_cast<std::size_t>(j) * nx + static_cast<std::size_t>(i)),
+          static_cast<int>(s));
+      }
+    }
+  }
+  this->Start.assign(cells + 1, 0);
+  for (const auto& e : near)
+  {
+    ++this->Start[e.first + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c)
+  {
+    this->Start[c + 1] += this->Start[c];
+  }
+  // Filled with the starts as cursors (each ends at the next cell's start), then shifted back.
+  this->Items.resize(near.size());
+  for (const auto& e : near)
+  {
+    this->Items[this->Start[e.first]++] = e.second;
+  }
+  for (std::size_t c = cells; c > 0; --c)
+  {
+    this->Start[c] = this->Start[c - 1];
+  }
+  this->Start[0] = 0;
+}
+
+int SegmentGrid::cellOf(double v, double lo, int count) const
+{
+  const double c = (v - lo) * this->InvCell;
+  if (!(c >= 0.0))
+  {
+    return -1;
+  }
+  return c >= count ? count : static_cast<int>(c);
+}
+
+bool SegmentGrid::noneWithin(Vec2 p, double r) const
+{
+  const double reach = r * (1.0 + 1e-9);
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+    !std::isfinite(p.y))
+  {
+    return false;
+  }
+  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
+  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
+  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
+  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  return this->emptyCells(i0, i1, j0, j1) == 1;
+}
+
+// 1 when cells [i0, i1] x [j0, j1] list no segment (or the range is empty: beside the grid,
+// which holds every segment), 0 when one does, -1 when there are too many rows to tell.
+int SegmentGrid::emptyCells(int i0, int i1, int j0, int j1) const
+{
+  if (i0 > i1 || j0 > j1)
+  {
+    return 1;
+  }
+  if (j1 - j0 >= 256)
+  {
+    return -1;
+  }
+  for (int j = j0; j <= j1; ++j)
+  {
+    const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+    if (this->Start[row + i1 + 1] != this->Start[row + i0])
+    {
+      return 0;
+    }
+  }
+  return 1;
+}
+
+bool SegmentGrid::nearest(Vec2 p, double r, NearestSegment& nearest) const
+{
+  return this->scan(p, r, false, nearest);
+}
+
+bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
+{
+  NearestSegment n;
+  if (!this->scan(p, r, true, n))
+  {
+    return false;
+  }
+  distance2 = n.distance2;
+  return true;
+}
+
+// With ties: a tie settles the distance (not the segment).
+bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const
+{
+  const double reach = r * (1.0 + 1e-9);
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+    !std::isfinite(p.y))
+  {
+    return false;
+  }
+  // As StripTree::nearest: the squared bound, then segments strictly below the best so far.
+  double best2 = r * r;
+  int bestSeg = -1;
+  double bestT = 0.0;
+  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
+  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
+  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
+  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  if (i0 <= i1 && j0 <= j1)
+  {
+    // Scanned when at most 64 cells, else only told empty.
+    const bool small = (i1 - i0 + 1) * (j1 - j0 + 1) <= 64;
+    if (small || this->emptyCells(i0, i1, j0, j1) != 1)
+    {
+      if (!small)
+      {
+        return false;
+      }
+      bool tie = false;
+      const Vec2* a = this->A.data();
+      const Vec2* b = this->B.data();
+      for (int j = j0; j <= j1; ++j)
+      {
+        const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+        for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+        {
+          const int seg = this->Items[k];
+          double t;
+          const double d2 = segmentDistance2Exact(p, a[seg], b[seg], t);
+          if (d2 < best2)
+          {
+            best2 = d2;
+            bestSeg = seg;
+            bestT = t;
+            tie = false;
+          }
+          else if (d2 == best2 && bestSeg >= 0 && seg != bestSeg)
+          {
+            tie = true; // the tree takes either, whichever it meets first
+          }
+        }
+      }
+      if (tie && !ties)
+      {
+        return false;
+      }
+    }
+  }
+  nearest.segment = bestSeg;
+  nearest.distance2 = best2;
+  nearest.t = bestT;
+  return true;
 }
 
 } // namespace strata

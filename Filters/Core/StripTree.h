@@ -76,6 +76,44 @@ private:
   int Depth = 0;
 };
 
+/// Which cells of a uniform grid lie near which segments: answers bounded nearest-segment
+/// queries near the segments, and "no segment lies within r of p" in a few reads, when it
+/// can (see StripTree.cpp); otherwise the caller asks a StripTree over the same segments.
+class SegmentGrid
+{
+public:
+  SegmentGrid() = default;
+  /// Segment i goes from a[i] to b[i] (sizes as for StripTree); square cells of side cellSize
+  /// over the segments' box, enlarged so that there are at most maxCells (and at least one).
+  SegmentGrid(std::vector<Vec2> a, std::vector<Vec2> b, double cellSize, std::size_t maxCells);
+
+  /// True only when no segment lies within r of p (false for a NaN or infinite p or r).
+  bool noneWithin(Vec2 p, double r) const;
+  /// When the cells settle it, sets `nearest` to exactly what StripTree::nearest(p, scratch,
+  /// r) gives for these segments and returns true: no segment within r, or a single closest
+  /// one (its squared distance below those of all others). False (nearest untouched) for a
+  /// tie, a box of more than 64 cells, or a NaN or infinite p or r.
+  bool nearest(Vec2 p, double r, NearestSegment& nearest) const;
+  /// The squared distance of nearest(p, r), also for ties: true with what StripTree::nearest
+  /// gives as distance2, false (distance2 untouched) when the cells cannot tell.
+  bool nearestDistance2(Vec2 p, double r, double& distance2) const;
+
+private:
+  bool scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const;
+
+  // Cell index of coordinate v along an axis starting at lo, clamped to [-1, count].
+  int cellOf(double v, double lo, int count) const;
+  int emptyCells(int i0, int i1, int j0, int j1) const;
+
+  std::vector<Vec2> A, B;
+  Vec2 Origin;
+  double Cell = 0.0, InvCell = 0.0, Margin = 0.0;
+  int Nx = 0, Ny = 0;
+  // The segments near cell j Nx + i: Items[Start[j Nx + i] .. Start[j Nx + i + 1]).
+  std::vector<std::uint32_t> Start;
+  std::vector<int> Items;
+};
+
 } // namespace strata
 
 #endif

@@ -816,6 +816,7 @@ TEST(DistanceFieldTest, query_region_matches_even_odd_on_multi_region_models)
       {
         ++wrongDistance;
       }
+      wrongRegion += field.region(p, scratch) != q.region; // region() is query().region
       if (k % 20 == 0)
       {
         // Magnitudes: the boundary distance is exact; inside a region the signed distance is

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -353,4 +355,116 @@ TEST(SpringSystemTest, RejectsParametersOutOfRangeNamingThem)
   EXPECT_THROW(strata::SpringSystem(
                  strata::SpringMesh{ { { 0, 1, 5 } }, {} }, { { 0, 0 }, { 1, 0 }, { 0, 1 } }),
     strata::ParameterError);
+}
+
+TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
+{
+  // The force loops work on two springs at a time; each particle's sums must be those of the
+  // plain loop below (same operations, springs in order), with coincident particles (a spring
+  // of length 0) and a corner on its opposite edge (a projection of length 0), all particles
+  // awake and only some.
+  const Lattice l = lattice(9);
+  std::vector<Vec2> x = l.points;
+  std::vector<Vec2> v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    const double s = static_cast<double>(i);
+    x[i] = x[i] + Vec2{ 0.3 * std::sin(1.7 * s), 0.3 * std::cos(2.3 * s) };
+    v[i] = Vec2{ 0.1 * std::cos(0.7 * s), -0.2 * std::sin(1.1 * s) };
+  }
+  x[12] = x[13];                          // an edge of length 0
+  x[25] = 0.5 * (x[24] + x[35]);          // near or on an opposite edge
+  x[47] = x[46] + 0.25 * (x[58] - x[46]); // on edge 46-58's line
+  strata::SpringParams params;
+  params.damping = 0.7;
+  params.stiffness = 1.3;
+  for (const bool some : { false, true })
+  {
+    SCOPED_TRACE(some ? "some awake" : "all awake");
+    strata::SpringSystem s = makeSystem(l, x, params);
+    s.velocities() = v;
+    std::vector<std::uint8_t> awake(x.size(), 1);
+    if (some)
+    {
+      for (std::size_t i = 0; i < x.size(); ++i)
+      {
+        awake[i] = (i * 7) % 5 != 0;
+      }
+      s.setAwake(awake);
+    }
+    s.computeForces();
+    // The plain loops (edges, then the three corners of each triangle).
+    const strata::SpringMesh& mesh = s.mesh();
+    std::vector<Vec2> f(x.size());
+    std::vector<double> k(x.size(), 0.0);
+    const double ks = params.stiffness, kd = params.damping;
+    for (const auto& e : mesh.edges)
+    {
+      if (!awake[e[0]] && !awake[e[1]])
+      {
+        continue;
+      }
+      const double x0 = strata::norm(l.points[e[0]] - l.points[e[1]]);
+      const Vec2 dx = x[e[0]] - x[e[1]], dv = v[e[0]] - v[e[1]];
+      const double l2 = strata::norm2(dx);
+      Vec2 force;
+      if (l2 != 0.0)
+      {
+        const double inv = 1.0 / std::sqrt(l2);
+        const double m = ks * (1.0 - x0 * inv) + kd * strata::dot(dv, dx) * inv * inv;
+        force = { -m * dx.x, -m * dx.y };
+      }
+      f[e[0]] = f[e[0]] + force;
+      f[e[1]] = f[e[1]] - force;
+      k[e[0]] += ks;
+      k[e[1]] += ks;
+    }
+    for (const auto& t : mesh.triangles)
+    {
+      if (!awake[t[0]] && !awake[t[1]] && !awake[t[2]])
+      {
+        continue;
+      }
+      for (int c = 0; c < 3; ++c)
+      {
+        const int a = t[(c + 1) % 3], b = t[(c + 2) % 3];
+        const Vec2 r0 = l.points[t[c]], ra = l.points[a], rb = l.points[b];
+        const double x0 =
+          strata::norm(r0 - (ra + strata::projectionParameter(r0, ra, rb) * (rb - ra)));
+        const Vec2 e = x[b] - x[a];
+        const double len2 = strata::norm2(e);
+        if (!(x0 > 0.0) || !(len2 > 0.0))
+        {
+          continue;
+        }
+        const Vec2 rel = x[t[c]] - x[a];
+        const double u = std::clamp(strata::dot(rel, e) / len2, 0.0, 1.0);
+        const Vec2 dx = rel - u * e;
+        const double l2 = strata::norm2(dx);
+        Vec2 force;
+        double stiffness = 0.0;
+        if (l2 != 0.0)
+        {
+          const double q = x0 * x0 / l2;
+          stiffness = ks * (1.0 + q);
+          const double m = ks * (1.0 - q);
+          force = { -m * dx.x, -m * dx.y };
+        }
+        f[t[c]] = f[t[c]] + force;
+        f[a] = f[a] - (1.0 - u) * force;
+        f[b] = f[b] - u * force;
+        k[t[c]] += stiffness;
+        k[a] += (1.0 - u) * stiffness;
+        k[b] += u * stiffness;
+      }
+    }
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      const double stiffness = s.stiffness(i);
+      differ += std::memcmp(&f[i], &s.forces()[i], sizeof(Vec2)) != 0 ||
+        std::memcmp(&k[i], &stiffness, sizeof(double)) != 0;
+    }
+    EXPECT_EQ(differ, 0u);
+  }
 }

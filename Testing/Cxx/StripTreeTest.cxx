@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -611,4 +612,135 @@ TEST(StripTreeTest, concurrent_queries_with_own_scratch_agree_with_serial_ones)
     t.join();
   }
   EXPECT_EQ(mismatches, 0);
+}
+
+namespace
+{
+
+// Whenever a SegmentGrid settles a bounded query, its answer is bit for bit the strip tree's
+// (segment, squared distance, parameter), nearestDistance2() the tree's squared distance even
+// for ties, and noneWithin() only when the tree finds nothing:
+// random points, the vertices and points beside them (ties between the two segments of a
+// vertex), radii from a tenth of a cell to ten cells, three cell sizes.
+std::size_t compareGridWithTree(const Segments& s,
+  const std::vector<Vec2>& points,
+  double cell,
+  std::size_t& settled,
+  std::size_t& queries)
+{
+  std::size_t settledDistances = 0;
+  const StripTree tree(s.a, s.b);
+  const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
+  StripTreeScratch scratch;
+  std::size_t wrong = 0;
+  for (const Vec2 p : points)
+  {
+    for (const double f : { 0.1, 0.5, 1.0, 2.0, 10.0 })
+    {
+      const double r = f * cell;
+      const NearestSegment t = tree.nearest(p, scratch, r);
+      NearestSegment g;
+      g.segment = -7;
+      ++queries;
+      if (grid.nearest(p, r, g))
+      {
+        ++settled;
+        wrong += g.segment != t.segment || g.distance2 != t.distance2 || g.t != t.t;
+      }
+      else
+      {
+        wrong += g.segment != -7; // untouched
+      }
+      wrong += grid.noneWithin(p, r) && t.segment >= 0;
+      double d2 = -1.0;
+      const bool told = grid.nearestDistance2(p, r, d2);
+      wrong += told ? d2 != t.distance2 : d2 != -1.0;
+      settledDistances += told;
+    }
+  }
+  // Ties settle the distance too.
+  wrong += settledDistances < settled;
+  return wrong;
+}
+
+} // namespace
+
+TEST(StripTreeTest, segment_grid_answers_as_the_tree)
+{
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const std::string& name : kModels)
+  {
+    SCOPED_TRACE(name);
+    const Segments s = readSegments(name);
+    const double size = std::max(s.box.width(), s.box.height());
+    for (const double cell : { size / 64.0, size / 512.0, size / 4096.0 })
+    {
+      std::vector<Vec2> points = randomPoints(s.box, 0.05, 4000, rng);
+      for (std::size_t i = 0; i < s.a.size(); i += 7)
+      {
+        points.push_back(s.a[i]);
+        points.push_back(s.a[i] + 0.3 * cell * Vec2{ u(rng), u(rng) });
+        points.push_back(0.5 * (s.a[i] + s.b[i]) + 0.3 * cell * Vec2{ u(rng), u(rng) });
+      }
+      std::size_t settled = 0, queries = 0;
+      EXPECT_EQ(compareGridWithTree(s, points, cell, settled, queries), 0u) << cell;
+      // The grid is of use (the Loops files hold every shared curve twice: ties, unsettled).
+      EXPECT_GT(settled, queries / 10) << cell;
+    }
+  }
+}
+
+TEST(StripTreeTest, segment_grid_answers_as_the_tree_on_degenerate_layouts)
+{
+  // Collinear runs, duplicated segments (ties everywhere near them), a zero-length segment, a
+  // segment soup, and points on the common lines; also no segment at all and NaN queries.
+  Segments s;
+  for (int i = 0; i < 500; ++i)
+  {
+    s.a.push_back({ double(i), 0.0 });
+    s.b.push_back({ double(i + 1), 0.0 });
+  }
+  for (int i = 0; i < 10; ++i)
+  {
+    s.a.push_back({ 10.0, 5.0 });
+    s.b.push_back({ 20.0, 5.0 });
+  }
+  s.a.push_back({ 30.0, 30.0 });
+  s.b.push_back({ 30.0, 30.0 });
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-50.0, 550.0);
+  for (int i = 0; i < 300; ++i)
+  {
+    s.a.push_back({ u(rng), u(rng) });
+    s.b.push_back({ s.a.back().x + 0.01 * u(rng), s.a.back().y + 0.01 * u(rng) });
+  }
+  for (std::size_t i = 0; i < s.a.size(); ++i)
+  {
+    s.box.add(s.a[i]);
+    s.box.add(s.b[i]);
+  }
+  std::vector<Vec2> points = randomPoints(s.box, 0.2, 5000, rng);
+  for (int i = 0; i < 1000; ++i)
+  {
+    points.push_back({ u(rng), 0.0 });
+    points.push_back({ u(rng), 5.0 });
+    points.push_back({ std::floor(u(rng)), 0.0 });
+  }
+  points.push_back({ 30.0, 30.0 });
+  for (const double cell : { 0.5, 3.0, 40.0 })
+  {
+    std::size_t settled = 0, queries = 0;
+    EXPECT_EQ(compareGridWithTree(s, points, cell, settled, queries), 0u) << cell;
+  }
+  const strata::SegmentGrid none({}, {}, 1.0, 100);
+  NearestSegment n;
+  EXPECT_FALSE(none.nearest({ 0.0, 0.0 }, 1.0, n));
+  EXPECT_FALSE(none.noneWithin({ 0.0, 0.0 }, 1.0));
+  const strata::SegmentGrid grid(s.a, s.b, 1.0, 1000);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(grid.nearest({ nan, 0.0 }, 1.0, n));
+  EXPECT_FALSE(grid.nearest({ 0.0, 0.0 }, HUGE_VAL, n));
+  EXPECT_FALSE(grid.noneWithin({ 0.0, nan }, 1.0));
+  EXPECT_THROW(strata::SegmentGrid(s.a, {}, 1.0, 1000), strata::ParameterError);
 }
