@@ -87,6 +87,16 @@ inline double pointSegmentDistance2(Vec2 p, Vec2 a, Vec2 b, double* t = nullptr)
   return norm2(p - q);
 }
 
+/// Hints the processor to fetch the cache line at `address` (no effect where unsupported).
+inline void prefetch(const void* address)
+{
+#if defined(__GNUC__)
+  __builtin_prefetch(address);
+#else
+  (void)address;
+#endif
+}
+
 } // namespace strata
 
 #endif

@@ -164,15 +164,6 @@ inline Vec2 projectionKernel(Vec2 dx, double x02, double ks, double& stiffness)
   return { -m * dx.x, -m * dx.y };
 }
 
-inline void prefetch(const void* address)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(address);
-#else
-  (void)address;
-#endif
-}
-
 #if defined(__SSE2__)
 // The kernels on two springs at once (lane 0 and lane 1): the same operations in the same
 // order, so bit for bit the scalar results (the branches become selects).

@@ -168,15 +168,6 @@ constexpr int kBucket = 8;
 // strip's frame never lengthens a distance (see the top of the file).
 constexpr double kAxisScale = 1.0 - 1e-13;
 
-inline void prefetch(const void* address)
-{
-#if defined(__GNUC__)
-  __builtin_prefetch(address);
-#else
-  (void)address;
-#endif
-}
-
 // Depth of a node from its breadth-first id (root 1).
 inline int depthOf(int id)
 {
