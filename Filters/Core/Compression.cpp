@@ -328,18 +328,31 @@ BoundaryRails::Location BoundaryRails::closest(Vec2 p,
   double maxDistance) const
 {
   const NearestSegment s = this->Tree.nearest(p, scratch, maxDistance);
-  Location l;
-  if (s.segment >= 0)
-  {
-    l.chain = this->SegmentOf[s.segment][0];
-    l.segment = this->SegmentOf[s.segment][1];
-    l.t = s.t;
-  }
+  const Location l = s.segment >= 0 ? this->location(s.segment, s.t) : Location{};
   if (distance)
   {
     *distance = std::sqrt(s.distance2);
   }
   return l;
+}
+
+SegmentGrid BoundaryRails::segmentGrid(double cellSize, std::size_t maxCells) const
+{
+  std::vector<Vec2> a, b;
+  for (const Chain& c : this->Chains)
+  {
+    for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
+    {
+      a.push_back(c.points[k]);
+      b.push_back(c.points[(k + 1) % c.points.size()]);
+    }
+  }
+  return SegmentGrid(std::move(a), std::move(b), cellSize, maxCells);
+}
+
+BoundaryRails::Location BoundaryRails::location(int segment, double t) const
+{
+  return { this->SegmentOf[segment][0], this->SegmentOf[segment][1], t };
 }
 
 Vec2 BoundaryRails::position(const Location& l) const
@@ -1875,16 +1888,6 @@ bool Compressor::movedLessThanGridDistance(int g, double moved)
     if (!this->CurveCells)
     {
       // Cells half the median longest edge of the sub-mesh wide (every 16th triangle).
-      std::vector<Vec2> a, b;
-      for (std::size_t ci = 0; ci < this->Rails.numberOfChains(); ++ci)
-      {
-        const BoundaryRails::Chain& c = this->Rails.chain(static_cast<int>(ci));
-        for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
-        {
-          a.push_back(c.points[k]);
-          b.push_back(c.points[(k + 1) % c.points.size()]);
-        }
-      }
       const std::vector<Vec2>& x = this->Sys->positions();
       std::vector<double> longest;
       for (std::size_t t = 0; t < this->Tri.size(); t += 16)
@@ -1902,7 +1905,7 @@ bool Compressor::movedLessThanGridDistance(int g, double moved)
       }
       const std::size_t most =
         std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
-      this->CurveCells = std::make_unique<SegmentGrid>(std::move(a), std::move(b), cell, most);
+      this->CurveCells = std::make_unique<SegmentGrid>(this->Rails.segmentGrid(cell, most));
     }
     if (this->CurveCells->noneWithin(this->Grid.points[g], moved))
     {

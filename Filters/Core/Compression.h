@@ -137,6 +137,11 @@ public:
     StripTreeScratch& scratch,
     double* distance = nullptr,
     double maxDistance = HUGE_VAL) const;
+  /// The rails' segments (chain by chain, the order of the segment ids closest() works with)
+  /// in a SegmentGrid of cells cellSize wide, at most maxCells (see SegmentGrid).
+  SegmentGrid segmentGrid(double cellSize, std::size_t maxCells) const;
+  /// The location of parameter t on segment `segment` of that order.
+  Location location(int segment, double t) const;
   Vec2 position(const Location& l) const;
   /// Unit direction of the location's segment (chain direction).
   Vec2 tangent(const Location& l) const;

@@ -274,21 +274,9 @@ void refineCompressed(CompressionResult& compressed,
   // The curves' segments in the rails' order (chain by chain) in cells about half the median
   // longest edge wide: most bounded queries (a triangle's reach) are answered by the cells,
   // exactly as the strip tree would (see SegmentGrid), and only the others by the tree.
-  std::vector<std::array<int, 2>> segmentOf; // grid segment -> (chain, segment of the chain)
   double cell = 0.0;
   const SegmentGrid curveCells = [&]()
   {
-    std::vector<Vec2> a, b;
-    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
-    {
-      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
-      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
-      {
-        a.push_back(c.points[k]);
-        b.push_back(c.points[(k + 1) % c.points.size()]);
-        segmentOf.push_back({ static_cast<int>(ci), static_cast<int>(k) });
-      }
-    }
     std::vector<double> longest(compressed.triangles.size());
     for (std::size_t t = 0; t < longest.size(); ++t)
     {
@@ -303,7 +291,7 @@ void refineCompressed(CompressionResult& compressed,
       cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
     }
     const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * longest.size() + 4096);
-    return SegmentGrid(std::move(a), std::move(b), cell, most);
+    return rails.segmentGrid(cell, most);
   }();
   // rails.closest through the cells when they settle it (the same answer). Without a bound,
   // the cells within two cells of p are asked: a segment found there is the closest of all.
@@ -316,13 +304,8 @@ void refineCompressed(CompressionResult& compressed,
     {
       return rails.closest(p, scratch, distance, maxDistance);
     }
-    BoundaryRails::Location l;
-    if (s.segment >= 0)
-    {
-      l.chain = segmentOf[s.segment][0];
-      l.segment = segmentOf[s.segment][1];
-      l.t = s.t;
-    }
+    const BoundaryRails::Location l =
+      s.segment >= 0 ? rails.location(s.segment, s.t) : BoundaryRails::Location{};
     if (distance)
     {
       *distance = std::sqrt(s.distance2);
@@ -1050,28 +1033,15 @@ MesherResult triangulate(const RawPolylines& input,
         cell = std::sqrt(lengths[lengths.size() / 2]);
       }
     }
-    const auto cellsOf = [&](std::vector<Vec2> from, std::vector<Vec2> to)
-    {
-      const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 16 * from.size() + 4096);
-      return SegmentGrid(std::move(from), std::move(to), cell, most);
-    };
+    const auto most = [](std::size_t segments)
+    { return std::min<std::size_t>(std::size_t(1) << 21, 16 * segments + 4096); };
     // The squared distance from p to the cells' segments, when found within two cells.
     const auto near2 = [&](const SegmentGrid& cells, Vec2 p, double& d2)
     {
       const double r = 2.0 * cell;
       return cells.nearestDistance2(p, r, d2) && d2 < r * r;
     };
-    std::vector<Vec2> railA, railB;
-    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
-    {
-      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
-      for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
-      {
-        railA.push_back(c.points[k]);
-        railB.push_back(c.points[(k + 1) % c.points.size()]);
-      }
-    }
-    const SegmentGrid railCells = cellsOf(std::move(railA), std::move(railB));
+    const SegmentGrid railCells = rails.segmentGrid(cell, most(rails.numberOfSegments()));
     // The distance to the curves, as rails.closest gives it.
     const auto toCurves = [&](Vec2 p)
     {
@@ -1107,7 +1077,7 @@ MesherResult triangulate(const RawPolylines& input,
     if (!a.empty())
     {
       const StripTree tree(a, b);
-      const SegmentGrid meshCells = cellsOf(a, b);
+      const SegmentGrid meshCells(a, b, cell, most(a.size()));
       // The distance to the mesh's boundary, as the tree gives it.
       const auto toMesh = [&](Vec2 p)
       {
