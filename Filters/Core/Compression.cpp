@@ -21,10 +21,12 @@
 //    taken point, or within h / 4 of another target on the same chain, are moved half an edge
 //    length along the chain (h = local edge length).
 // 3. Simulated zone. Vertices within activeRings edge rings of a candidate or junction vertex
-//    are simulated (never the domain border); the triangles around them form a sub-mesh with
-//    flat local arrays (triangles, neighbours across each edge, spring edge ids, a CSR vertex
-//    -> triangles table, which the simulation's flips update from the stars of the flipped
-//    triangles' vertices only: updateStars); every other vertex keeps its grid position.
+//    are simulated (never the domain border), numbered in Z-order of their positions (memory
+//    locality; a large step's two halves meet on a short seam, see SpringSystem.cpp); the
+//    triangles around them form a sub-mesh with flat local arrays (triangles, neighbours
+//    across each edge, spring edge ids, a CSR vertex -> triangles table, which the
+//    simulation's flips update from the stars of the flipped triangles' vertices only:
+//    updateStars); every other vertex keeps its grid position.
 // 4. Simulation (6.1, 6.2). A SpringSystem on the sub-mesh with rest lengths from the grid:
 //    simulated vertices are free particles, pushed and arrived ones are driven, the halo is
 //    fixed. Every step: forces; free particles by semi-implicit Euler; one push step per
@@ -88,6 +90,48 @@ void checkRange(bool ok, const char* name, double value, const char* range)
   {
     throw ParameterError(
       std::string("Compression: ") + name + " " + std::to_string(value) + " is not in " + range);
+  }
+}
+
+// 0b0a0b0a... from the low 16 bits of v: the bits spread for a Morton (Z-order) key.
+std::uint32_t spreadBits(std::uint32_t v)
+{
+  v &= 0xffffu;
+  v = (v | (v << 8)) & 0x00ff00ffu;
+  v = (v | (v << 4)) & 0x0f0f0f0fu;
+  v = (v | (v << 2)) & 0x33333333u;
+  return (v | (v << 1)) & 0x55555555u;
+}
+
+// Sorts the point ids in Z-order over their bounding box (ties by id), so that ids close in
+// the list are close in the plane: the simulation's arrays are then read nearly in order, and
+// the halves of a split step (SpringSystem) meet along a short seam.
+void sortSpatially(std::vector<int>& ids, const std::vector<Vec2>& points)
+{
+  if (ids.empty())
+  {
+    return;
+  }
+  Vec2 lo = points[ids[0]], hi = lo;
+  for (const int i : ids)
+  {
+    lo = { std::min(lo.x, points[i].x), std::min(lo.y, points[i].y) };
+    hi = { std::max(hi.x, points[i].x), std::max(hi.y, points[i].y) };
+  }
+  const double sx = hi.x > lo.x ? 65535.0 / (hi.x - lo.x) : 0.0;
+  const double sy = hi.y > lo.y ? 65535.0 / (hi.y - lo.y) : 0.0;
+  std::vector<std::pair<std::uint32_t, int>> keyed;
+  keyed.reserve(ids.size());
+  for (const int i : ids)
+  {
+    const auto cx = static_cast<std::uint32_t>((points[i].x - lo.x) * sx);
+    const auto cy = static_cast<std::uint32_t>((points[i].y - lo.y) * sy);
+    keyed.emplace_back(spreadBits(cx) | (spreadBits(cy) << 1), i);
+  }
+  std::sort(keyed.begin(), keyed.end());
+  for (std::size_t k = 0; k < ids.size(); ++k)
+  {
+    ids[k] = keyed[k].second;
   }
 }
 
@@ -924,7 +968,8 @@ void Compressor::buildSubMesh()
     active.insert(active.end(), next.begin(), next.end());
     frontier.swap(next);
   }
-  // Local vertices: the simulated ones first, then the halo.
+  // Local vertices: the simulated ones first, in spatial order, then the halo.
+  sortSpatially(active, this->Points);
   this->LocalOf.assign(np, -1);
   for (int g : active)
   {
@@ -1037,6 +1082,7 @@ void Compressor::buildSubMesh()
   sp.configuration = this->Params.springConfiguration;
   sp.stiffness = this->Params.springStiffness;
   sp.damping = this->Params.damping;
+  sp.splitSprings = this->Params.splitSprings;
   SpringMesh sm;
   sm.triangles = this->Tri;
   sm.edges = std::move(edges);

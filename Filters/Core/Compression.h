@@ -67,6 +67,9 @@ struct CompressionParams
   /// Vertices within this many edge rings of a candidate (an end point of an intersection
   /// edge or a junction vertex) are simulated; the rest of the grid is fixed. Range [1, 16].
   int activeRings = 2;
+  /// Springs from which a simulation step is split in two halves on two threads
+  /// (SpringParams::splitSprings; a larger mesh's result does not depend on the machine).
+  std::size_t splitSprings = SpringParams{}.splitSprings;
   /// Beyond the paper: after the simulation, snap boundary vertices that are off the curves
   /// onto them, refine the boundary (boundaryTolerance), then flip edges, smooth vertices
   /// (free ones in the plane, curve ones along their curve), collapse squeezed vertices and

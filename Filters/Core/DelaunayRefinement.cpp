@@ -1054,6 +1054,15 @@ double Refiner::cornerAngle(int t) const
   {
     return 180.0;
   }
+  bool corner = false;
+  for (int i = 0; i < 3 && !corner; ++i)
+  {
+    corner = this->constrained(t, i) && this->constrained(t, (i + 2) % 3);
+  }
+  if (!corner)
+  {
+    return 180.0; // (most triangles: no angle to compute)
+  }
   double angle = 180.0;
   const auto& tri = this->M.triangles[t];
   const auto angles = triangleAngles(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));

@@ -16,6 +16,12 @@
 // the other as the scalar loop does: every particle's sums are bit for bit the same. The
 // triangle loop prefetches the corners of the triangles eight pairs ahead (it waits on memory
 // more than on its divisions).
+// Large systems (SpringParams::splitSprings) split a step in two halves: the springs' forces
+// into two accumulators, summed afterwards, and the particles' moves in two index halves,
+// each moving only particles whose triangles lie in its half; those on the seam move after
+// both, in index order. With particles in spatial order (the compression's are) the seam is a
+// thin line. The halves run on two threads when the machine has two cores; the result does
+// not depend on that.
 #include "SpringSystem.h"
 
 #include "Errors.h"
@@ -23,6 +29,8 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <system_error>
+#include <thread>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -41,6 +49,30 @@ void checkRange(bool ok, const char* name, double value, const char* range)
     throw ParameterError(
       std::string("SpringSystem: ") + name + " " + std::to_string(value) + " is not in " + range);
   }
+}
+
+// Runs first() and second(): at once on two threads when the machine has two cores (and a
+// thread can be started), else one after the other. Neither may throw.
+template<class First, class Second>
+void bothHalves(First&& first, Second&& second)
+{
+  static const bool twoCores = std::thread::hardware_concurrency() > 1;
+  if (twoCores)
+  {
+    try
+    {
+      std::thread other(second);
+      first();
+      other.join();
+      return;
+    }
+    catch (const std::system_error&)
+    {
+      // No thread to be had: both halves here.
+    }
+  }
+  first();
+  second();
 }
 } // namespace
 
@@ -221,11 +253,11 @@ void EdgeSprings::addForces(const SpringMesh& mesh,
   const SpringParams& params) const
 {
   const double ks = params.stiffness, kd = params.damping;
-  const std::size_t n = s.edges ? s.edges->size() : mesh.edges.size();
-  const int* subset = s.edges ? s.edges->data() : nullptr;
+  const std::size_t n = s.edgeEnd;
+  const int* subset = s.edgeIds;
   const std::array<int, 2>* edges = mesh.edges.data();
   const double* rest = this->Rest.data();
-  std::size_t i = 0;
+  std::size_t i = s.edgeBegin;
 #if defined(__SSE2__)
   // Two springs at a time, their forces added in order as below.
   for (; i + 1 < n; i += 2)
@@ -327,11 +359,11 @@ void ProjectionSprings::addForces(const SpringMesh& mesh,
   const SpringParams& params) const
 {
   const double ks = params.stiffness;
-  const std::size_t n = s.triangles ? s.triangles->size() : mesh.triangles.size();
-  const int* subset = s.triangles ? s.triangles->data() : nullptr;
+  const std::size_t n = s.triangleEnd;
+  const int* subset = s.triangleIds;
   const std::array<int, 3>* tris = mesh.triangles.data();
   const double* rest = this->Rest.data();
-  std::size_t j = 0;
+  std::size_t j = s.triangleBegin;
 #if defined(__SSE2__)
   // Two triangles at a time (lane 0 and lane 1), corner by corner; the forces are added in
   // order as below, those of the first triangle first.
@@ -589,52 +621,168 @@ void SpringSystem::computeForces()
   std::fill(this->F.begin(), this->F.end(), Vec2{});
   std::fill(this->K.begin(), this->K.end(), 0.0);
   ParticleState s{ this->X.data(), this->V.data(), this->F.data(), this->K.data() };
-  if (!this->Awake.empty())
+  const bool live = !this->Awake.empty();
+  s.edgeIds = live ? this->LiveEdges.data() : nullptr;
+  s.edgeEnd = live ? this->LiveEdges.size() : this->Mesh.edges.size();
+  s.triangleIds = live ? this->LiveTriangles.data() : nullptr;
+  s.triangleEnd = live ? this->LiveTriangles.size() : this->Mesh.triangles.size();
+  const auto add = [this](const ParticleState& part)
   {
-    s.edges = &this->LiveEdges;
-    s.triangles = &this->LiveTriangles;
-  }
-  for (const std::unique_ptr<SpringSet>& set : this->Sets)
+    for (const std::unique_ptr<SpringSet>& set : this->Sets)
+    {
+      set->addForces(this->Mesh, part, this->Params);
+    }
+  };
+  if (s.edgeEnd + s.triangleEnd < this->Params.splitSprings)
   {
-    set->addForces(this->Mesh, s, this->Params);
+    add(s);
+    return;
   }
+  // Two halves of the springs, each into its own accumulators, then summed: the second half
+  // on a second thread.
+  this->F1.assign(this->F.size(), Vec2{});
+  this->K1.assign(this->K.size(), 0.0);
+  ParticleState second = s;
+  second.f = this->F1.data();
+  second.k = this->K1.data();
+  second.part = 1;
+  s.edgeEnd = second.edgeBegin = s.edgeEnd / 2;
+  s.triangleEnd = second.triangleBegin = s.triangleEnd / 2;
+  bothHalves([&] { add(s); }, [&] { add(second); });
+  for (std::size_t i = 0; i < this->F.size(); ++i)
+  {
+    this->F[i] = this->F[i] + this->F1[i];
+    this->K[i] += this->K1[i];
+  }
+}
+
+double SpringSystem::moveParticle(std::size_t i, double dt, MoveGuard* guard)
+{
+  const double m = std::max(this->Params.mass, 2.0 * dt * dt * this->K[i]);
+  Vec2 v = this->V[i] + (dt / m) * this->F[i];
+  Vec2 d = dt * v;
+  const double limit = this->Params.maxStep * this->Local[i];
+  const double length = norm(d);
+  if (length > limit)
+  {
+    d = (limit / length) * d;
+    v = (limit / length) * v;
+  }
+  const Vec2 to = this->X[i] + d;
+  if (guard && !guard->accept(static_cast<int>(i), this->X[i], to))
+  {
+    this->V[i] = Vec2{};
+    return 0.0;
+  }
+  this->X[i] = to;
+  this->V[i] = v;
+  return std::min(length, limit) / this->Local[i];
 }
 
 double SpringSystem::integrate(double dt, MoveGuard* guard)
 {
-  const double mass = this->Params.mass;
-  const double scale = 2.0 * dt * dt;
-  const double maxStep = this->Params.maxStep;
   const std::size_t n = this->X.size();
-  double largest = 0.0;
+  const auto moves = [this](std::size_t i)
+  {
+    return this->Kind[i] == static_cast<std::uint8_t>(ParticleKind::Free) &&
+      (this->Awake.empty() || this->Awake[i]);
+  };
+  const std::size_t springs = this->Awake.empty()
+    ? this->Mesh.edges.size() + this->Mesh.triangles.size()
+    : this->LiveEdges.size() + this->LiveTriangles.size();
+  if (springs < this->Params.splitSprings)
+  {
+    double largest = 0.0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (moves(i))
+      {
+        largest = std::max(largest, this->moveParticle(i, dt, guard));
+      }
+    }
+    return largest;
+  }
+  // Two index halves, each moving the particles whose triangles lie in it (a move reads the
+  // corners of the particle's triangles only), then the seam's in index order.
+  if (this->Seam.size() != n)
+  {
+    this->findSeam();
+  }
+  double largest[2] = { 0.0, 0.0 };
+  const auto half = [&](int h)
+  {
+    const std::size_t begin = h == 0 ? 0 : this->SplitAt, end = h == 0 ? this->SplitAt : n;
+    double most = 0.0; // (a local: the two threads' results share a cache line)
+    for (std::size_t i = begin; i < end; ++i)
+    {
+      if (!this->Seam[i] && moves(i))
+      {
+        most = std::max(most, this->moveParticle(i, dt, guard));
+      }
+    }
+    largest[h] = most;
+  };
+  bothHalves([&] { half(0); }, [&] { half(1); });
+  double result = std::max(largest[0], largest[1]);
   for (std::size_t i = 0; i < n; ++i)
   {
-    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Free) ||
-      (!this->Awake.empty() && !this->Awake[i]))
+    if (this->Seam[i] && moves(i))
     {
-      continue;
+      result = std::max(result, this->moveParticle(i, dt, guard));
     }
-    const double m = std::max(mass, scale * this->K[i]);
-    Vec2 v = this->V[i] + (dt / m) * this->F[i];
-    Vec2 d = dt * v;
-    const double limit = maxStep * this->Local[i];
-    const double length = norm(d);
-    if (length > limit)
-    {
-      d = (limit / length) * d;
-      v = (limit / length) * v;
-    }
-    const Vec2 to = this->X[i] + d;
-    if (guard && !guard->accept(static_cast<int>(i), this->X[i], to))
-    {
-      this->V[i] = Vec2{};
-      continue;
-    }
-    this->X[i] = to;
-    this->V[i] = v;
-    largest = std::max(largest, std::min(length, limit) / this->Local[i]);
   }
-  return largest;
+  return result;
+}
+
+void SpringSystem::setKind(int i, ParticleKind kind)
+{
+  if (kind != ParticleKind::Fixed &&
+    this->Kind[i] == static_cast<std::uint8_t>(ParticleKind::Fixed))
+  {
+    this->Seam.clear(); // a fixed particle that moves again may join the halves: find it anew
+  }
+  this->Kind[i] = static_cast<std::uint8_t>(kind);
+}
+
+void SpringSystem::findSeam()
+{
+  // The split halves the particles that are not fixed.
+  const std::size_t n = this->X.size();
+  std::size_t movable = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    movable += this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Fixed);
+  }
+  this->SplitAt = 0;
+  for (std::size_t below = 0; this->SplitAt < n && 2 * below < movable; ++this->SplitAt)
+  {
+    below += this->Kind[this->SplitAt] != static_cast<std::uint8_t>(ParticleKind::Fixed);
+  }
+  this->Seam.assign(n, 0);
+  for (const std::array<int, 3>& t : this->Mesh.triangles)
+  {
+    this->markSeam(t);
+  }
+}
+
+void SpringSystem::markSeam(const std::array<int, 3>& t)
+{
+  // Fixed particles never move: reading them from either half is safe.
+  bool low = false, high = false;
+  for (const int i : t)
+  {
+    if (this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Fixed))
+    {
+      (static_cast<std::size_t>(i) < this->SplitAt ? low : high) = true;
+    }
+  }
+  if (low && high)
+  {
+    for (const int i : t)
+    {
+      this->Seam[i] = this->Kind[i] != static_cast<std::uint8_t>(ParticleKind::Fixed);
+    }
+  }
 }
 
 double SpringSystem::step(double dt, MoveGuard* guard)
@@ -676,6 +824,12 @@ void SpringSystem::flip(int edge,
   this->Mesh.edges[edge] = { std::min(newEdge[0], newEdge[1]), std::max(newEdge[0], newEdge[1]) };
   this->Mesh.triangles[t0] = n0;
   this->Mesh.triangles[t1] = n1;
+  if (!this->Seam.empty())
+  {
+    // The new triangles may join the halves (the seam only grows).
+    this->markSeam(n0);
+    this->markSeam(n1);
+  }
   for (std::unique_ptr<SpringSet>& set : this->Sets)
   {
     set->flipped(this->Mesh, this->X, edge, t0, t1);

@@ -40,6 +40,11 @@ struct SpringParams
   /// (mean rest length of its edges). Bounds the jump a stiff, nearly collapsed projection
   /// spring can cause in one explicit step. Range (0, 1].
   double maxStep = 0.25;
+  /// Springs (edges plus triangles) from which a step is split in two halves computed by two
+  /// threads (SpringSystem::computeForces and integrate). The split depends on this number
+  /// only, never on the machine's cores (one core computes both halves in turn), so results
+  /// are the same everywhere; below it one serial loop. Range [0, inf).
+  std::size_t splitSprings = 131072;
 };
 
 /// The triangles the springs live on and their unique edges. Springs are indexed by edge and
@@ -85,10 +90,16 @@ struct ParticleState
   /// Stiffness accumulator (may be null): each spring adds its current stiffness along its
   /// direction (dF/dlength) to the particles it acts on, for the stable mass of step().
   double* k = nullptr;
-  /// When not null, only these edges (for edge-indexed sets) and triangles (for
-  /// triangle-indexed sets) act: the springs touching an awake particle.
-  const std::vector<int>* edges = nullptr;
-  const std::vector<int>* triangles = nullptr;
+  /// The springs to add: edges [edgeBegin, edgeEnd) (for edge-indexed sets) and triangles
+  /// [triangleBegin, triangleEnd) (for triangle-indexed sets) of the lists edgeIds and
+  /// triangleIds, or of the mesh's own when they are null (then every spring, unless the
+  /// ranges say otherwise). The lists are the springs touching an awake particle.
+  const int* edgeIds = nullptr;
+  std::size_t edgeBegin = 0, edgeEnd = 0;
+  const int* triangleIds = nullptr;
+  std::size_t triangleBegin = 0, triangleEnd = 0;
+  /// Which part of a split computation this is (0 or 1; see SpringSystem::computeForces).
+  int part = 0;
 };
 
 /// A set of springs defined on a SpringMesh. Subclass to add a configuration.
@@ -106,7 +117,11 @@ public:
     int edge,
     int t0,
     int t1) = 0;
-  /// Adds every spring's force to s.f.
+  /// Adds the forces (and stiffnesses) of the springs in s's edge and triangle ranges to
+  /// s.f (and s.k). computeForces may split the springs in two parts, each with its own
+  /// ranges and accumulators, and compute them at once on two threads: an implementation
+  /// reads the shared state and writes only s.f and s.k; springs that are neither edge- nor
+  /// triangle-indexed are added in part 0.
   virtual void addForces(const SpringMesh& mesh,
     const ParticleState& s,
     const SpringParams& params) const = 0;
@@ -179,6 +194,8 @@ class MoveGuard
 public:
   virtual ~MoveGuard() = default;
   /// Whether particle i may move from `from` to `to` (all other particles where they are now).
+  /// A split step (SpringParams::splitSprings) asks from two threads at once, for particles
+  /// that share no triangle: an implementation reads the corners of i's triangles only.
   virtual bool accept(int i, Vec2 from, Vec2 to) = 0;
 };
 
@@ -224,7 +241,7 @@ public:
   const std::vector<Vec2>& velocities() const { return this->V; }
   const std::vector<Vec2>& forces() const { return this->F; }
   ParticleKind kind(int i) const { return static_cast<ParticleKind>(this->Kind[i]); }
-  void setKind(int i, ParticleKind kind) { this->Kind[i] = static_cast<std::uint8_t>(kind); }
+  void setKind(int i, ParticleKind kind);
   /// Mean rest length of the particle's edges (1 for a particle without edges).
   double localLength(int i) const { return this->Local[i]; }
   /// Summed stiffness of the particle's springs at the last computeForces().
@@ -245,8 +262,11 @@ public:
   void computeForces();
   /// Phases 2 and 3 for the free particles: acceleration F / m_i, then v += dt a and
   /// x += dt v (displacement clamped to maxStep local lengths). When `guard` rejects a move
-  /// the particle stays and its velocity is zeroed. Call computeForces() first. Returns the
-  /// largest displacement of a free particle divided by its local length.
+  /// the particle stays and its velocity is zeroed. Particles move one after the other, in
+  /// index order, each guarded against the others' new positions; a split step moves two
+  /// index halves at once (the particles with triangles in both halves last). Call
+  /// computeForces() first. Returns the largest displacement of a free particle divided by
+  /// its local length.
   double integrate(double dt, MoveGuard* guard = nullptr);
   /// computeForces() then integrate().
   double step(double dt, MoveGuard* guard = nullptr);
@@ -269,6 +289,15 @@ private:
   SpringMesh Mesh;
   std::vector<Vec2> X, V, F, Rest;
   std::vector<double> K;
+  std::vector<Vec2> F1;   // the second half's forces (computeForces)
+  std::vector<double> K1; // and stiffnesses
+  // integrate's halves: [0, SplitAt) and [SplitAt, n); Seam marks the particles with a
+  // triangle in both, moved after the halves (empty until a split step).
+  std::size_t SplitAt = 0;
+  std::vector<std::uint8_t> Seam;
+  double moveParticle(std::size_t i, double dt, MoveGuard* guard);
+  void findSeam();
+  void markSeam(const std::array<int, 3>& t);
   std::vector<std::uint8_t> Awake;
   std::vector<int> LiveEdges, LiveTriangles;
   std::vector<std::uint8_t> LiveEdge, LiveTriangle;

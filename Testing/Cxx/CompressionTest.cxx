@@ -489,3 +489,40 @@ TEST(CompressionTest, AbortStopsTheSimulation)
     strata::compress(pipe.mesh, pipe.cls, *pipe.model, *pipe.field, {}, progress), strata::Aborted);
   EXPECT_EQ(calls, 5);
 }
+
+// A large mesh's simulation is split in two halves on two threads (SpringParams::splitSprings);
+// forced on small meshes, the compressed mesh keeps every invariant of the serial one and
+// about the same numbers.
+TEST(CompressionTest, ASplitSimulationKeepsTheInvariants)
+{
+  for (const char* name : { "salt_dome.vtp", "lake_superior.vtp" })
+  {
+    SCOPED_TRACE(name);
+    const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath(name)), 10);
+    strata::CompressionParams serialParams, splitParams;
+    splitParams.splitSprings = 0;
+    for (const bool optimize : { false, true })
+    {
+      serialParams.optimize = splitParams.optimize = optimize;
+      const strata::CompressionResult serial = pipe.run(serialParams);
+      const strata::CompressionResult r = pipe.run(splitParams);
+      EXPECT_EQ(nonPositive(r), 0u);
+      EXPECT_EQ(r.degenerateTriangles, 0u);
+      EXPECT_EQ(r.junctionVertices, pipe.model->junctions.size());
+      const double tolerance = 1e-9 * pipe.model->size();
+      for (std::size_t i = 0; i < r.points.size(); ++i)
+      {
+        if (r.vertexState[i] == strata::VertexOnCurve || r.vertexState[i] == strata::VertexPinned)
+        {
+          EXPECT_LE(pipe.boundaryDistance(r.points[i]), tolerance) << "vertex " << i;
+        }
+      }
+      EXPECT_NEAR(static_cast<double>(r.arrivedVertices),
+        static_cast<double>(serial.arrivedVertices),
+        0.02 * static_cast<double>(serial.arrivedVertices));
+      EXPECT_NEAR(static_cast<double>(r.triangles.size()),
+        static_cast<double>(serial.triangles.size()),
+        0.02 * static_cast<double>(serial.triangles.size()));
+    }
+  }
+}

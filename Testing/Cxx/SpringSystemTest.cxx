@@ -468,3 +468,156 @@ TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
     EXPECT_EQ(differ, 0u);
   }
 }
+
+TEST(SpringSystemTest, ASplitStepHasTheSerialForcesAndMovesEveryParticleOnce)
+{
+  // A large system's step is split in two halves (forces summed from two accumulators,
+  // particles moved by index halves, the seam between them last): the forces are those of one
+  // loop up to rounding, every free awake particle is moved exactly once, and without a veto
+  // the moves are the serial ones.
+  const Lattice l = lattice(40);
+  std::vector<Vec2> x = l.points;
+  std::vector<Vec2> v(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    const double s = static_cast<double>(i);
+    x[i] = x[i] + Vec2{ 0.3 * std::sin(1.7 * s), 0.3 * std::cos(2.3 * s) };
+    v[i] = Vec2{ 0.1 * std::cos(0.7 * s), -0.2 * std::sin(1.1 * s) };
+  }
+  struct Counting : strata::MoveGuard
+  {
+    std::vector<int> asked;
+    bool accept(int i, Vec2, Vec2) override
+    {
+      ++this->asked[i]; // each index from one thread only, or the test fails on a count
+      return true;
+    }
+  };
+  for (const bool some : { false, true })
+  {
+    SCOPED_TRACE(some ? "some awake" : "all awake");
+    strata::SpringParams split;
+    split.splitSprings = 0;
+    strata::SpringSystem serial = makeSystem(l, x), halves = makeSystem(l, x, split);
+    std::vector<std::uint8_t> awake(x.size(), 1);
+    for (std::size_t i = 0; some && i < x.size(); ++i)
+    {
+      awake[i] = (i * 7) % 5 != 0;
+    }
+    for (strata::SpringSystem* s : { &serial, &halves })
+    {
+      s->velocities() = v;
+      s->setKind(l.border[3], strata::ParticleKind::Free); // a fixed particle freed
+      if (some)
+      {
+        s->setAwake(awake);
+      }
+      s->computeForces();
+    }
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      const double scale = 1.0 + strata::norm(serial.forces()[i]);
+      EXPECT_NEAR(halves.forces()[i].x, serial.forces()[i].x, 1e-12 * scale) << i;
+      EXPECT_NEAR(halves.forces()[i].y, serial.forces()[i].y, 1e-12 * scale) << i;
+      EXPECT_NEAR(halves.stiffness(i), serial.stiffness(i), 1e-12 * (1.0 + serial.stiffness(i)));
+    }
+    // Two steps; before the second another fixed particle is freed (it may join the halves).
+    for (const int freed : { l.border[3], l.border[7] })
+    {
+      if (freed == l.border[7])
+      {
+        for (strata::SpringSystem* s : { &serial, &halves })
+        {
+          s->setKind(freed, strata::ParticleKind::Free);
+          s->computeForces();
+        }
+      }
+      Counting guard;
+      guard.asked.assign(x.size(), 0);
+      serial.integrate(0.1);
+      halves.integrate(0.1, &guard);
+      std::size_t wrong = 0;
+      for (std::size_t i = 0; i < x.size(); ++i)
+      {
+        const bool moves = halves.kind(static_cast<int>(i)) == strata::ParticleKind::Free &&
+          halves.awake(static_cast<int>(i));
+        wrong += guard.asked[i] != (moves ? 1 : 0);
+        EXPECT_NEAR(halves.positions()[i].x, serial.positions()[i].x, 1e-12) << i;
+        EXPECT_NEAR(halves.positions()[i].y, serial.positions()[i].y, 1e-12) << i;
+      }
+      EXPECT_EQ(wrong, 0u);
+      EXPECT_EQ(guard.asked[freed], some && !awake[freed] ? 0 : 1);
+    }
+  }
+}
+
+TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
+{
+  // A lattice squeezed toward its centre line relaxes with a guard that refuses any move
+  // inverting a triangle: split in halves as in one loop, no triangle ever inverts.
+  const Lattice l = lattice(40);
+  std::vector<Vec2> x = l.points;
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    if (std::find(l.border.begin(), l.border.end(), static_cast<int>(i)) == l.border.end())
+    {
+      x[i].y = 20.0 + 0.05 * (x[i].y - 20.0); // squeezed
+    }
+  }
+  struct Embedded : strata::MoveGuard
+  {
+    const strata::SpringSystem* system = nullptr;
+    std::vector<std::vector<int>> star;
+    bool accept(int i, Vec2, Vec2 to) override
+    {
+      const std::vector<Vec2>& p = this->system->positions();
+      for (const int t : this->star[i])
+      {
+        std::array<Vec2, 3> c;
+        for (int k = 0; k < 3; ++k)
+        {
+          const int j = this->system->mesh().triangles[t][k];
+          c[k] = j == i ? to : p[j];
+        }
+        if (!(strata::orient2d(c[0], c[1], c[2]) > 0.0))
+        {
+          return false;
+        }
+      }
+      return true;
+    }
+  };
+  for (const std::size_t splitSprings : { strata::SpringParams{}.splitSprings, std::size_t(0) })
+  {
+    strata::SpringParams params;
+    params.splitSprings = splitSprings;
+    strata::SpringSystem s = makeSystem(l, x, params);
+    Embedded guard;
+    guard.system = &s;
+    guard.star.resize(x.size());
+    for (std::size_t t = 0; t < l.triangles.size(); ++t)
+    {
+      for (const int v : l.triangles[t])
+      {
+        guard.star[v].push_back(static_cast<int>(t));
+      }
+    }
+    for (int step = 0; step < 300; ++step)
+    {
+      s.step(0.1, &guard);
+    }
+    std::size_t inverted = 0;
+    double spread = 0.0;
+    for (const auto& t : l.triangles)
+    {
+      const std::vector<Vec2>& p = s.positions();
+      inverted += !(strata::orient2d(p[t[0]], p[t[1]], p[t[2]]) > 0.0);
+    }
+    for (const Vec2& p : s.positions())
+    {
+      spread = std::max(spread, std::abs(p.y - 20.0));
+    }
+    EXPECT_EQ(inverted, 0u) << splitSprings;
+    EXPECT_GT(spread, 15.0) << splitSprings; // it did relax
+  }
+}
