@@ -106,8 +106,9 @@ public:
    * anywhere; MaxLevel becomes L when automatic (-1) and the finer of MaxLevel and L when set,
    * and the automatic LocalMaxLevel follows (L + 4). Range 0 or [D / 2048, inf) (at most
    * 4 * 2^22 triangles of uniform refinement). The mesh of the triangulator moves vertices
-   * onto the curves, which stretches some edges: its longest edges stay below 2
-   * MaximumEdgeLength (at most 1.6 times measured on the bundled models).
+   * onto the curves, which stretches some edges; its refinement then splits every region edge
+   * still longer than MaximumEdgeLength, so no mesh edge is longer (with MinimumAngle > 0,
+   * the default; with MinimumAngle 0 or Optimization off, up to 2.0 times measured).
    *
    * MinimumEdgeLength > 0 caps the refinement: MaxLevel, LocalMaxLevel and the junction
    * refinement, automatic or set, stop at the finest level whose hypotenuse is >=

@@ -48,6 +48,13 @@
 //    a small angle is a triangle longer than that (Marmousi's 19-degree junctions, in
 //    triangles 30 long, 17 times its finest edge; country borders meeting a coast at 10-20
 //    degrees), and what the tip hides lies within its shortest edge of the mesh's boundary.
+// 2d. Size (RefinementParams::maximumEdgeLength > 0). Every region edge longer than it is
+//    split, longest first: an unconstrained one in its middle, a constrained one at the point
+//    the BoundarySplitter gives (on its curve), with the flips of 3 around the new vertex;
+//    rounds until none is left (or the splitter or a piece's orientation refuses, or the
+//    budget ends). The runs of 3 then mend the angles; after the last pass it is done once
+//    more for what the smoothing and the collapses lengthened. Insertions never lengthen an
+//    edge, but Lawson's flips can.
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
@@ -127,6 +134,7 @@
 #include <numeric>
 #include <optional>
 #include <string>
+#include <tuple>
 
 namespace strata
 {
@@ -148,6 +156,7 @@ constexpr double kSlideDeviation = 0.05;    // a slid boundary edge's middle sta
                                             // the curves (relative to its length)
 constexpr double kDeviationFraction = 5e-4; // 2b': area a boundary edge may cut off
 constexpr int kFollowRounds = 8;            // rounds of 2b' at most
+constexpr int kSizeRounds = 32;             // rounds of 2d at most
 constexpr int kCollapseSweeps = 4;          // sweeps of the short edge collapses (6) at most
 constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve recovery
 // The refinement of 3 goes down to this much of minimumEdgeLength: a junction pair, a curve
@@ -228,6 +237,8 @@ public:
   /// Region corners sharper than the bound in small triangles given a neighbour's region
   /// (with the curve recovery's callbacks): returns the triangles retagged.
   std::size_t dissolveCorners();
+  /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
+  std::size_t splitLongEdges();
   std::vector<int> pieces() const;
   /// Smoothing of the vertices of the triangles below the bound: returns the moves.
   std::size_t smoothBad();
@@ -901,6 +912,68 @@ std::size_t Refiner::recoverCurves()
   return this->Inserted - before;
 }
 
+std::size_t Refiner::splitLongEdges()
+{
+  const double limit2 = this->P.maximumEdgeLength * this->P.maximumEdgeLength;
+  if (!(limit2 > 0.0))
+  {
+    return 0;
+  }
+  std::size_t splits = 0;
+  std::vector<std::tuple<double, int, int>> todo; // (-squared length, triangle, edge)
+  std::vector<int> created;
+  for (int round = 0; round < kSizeRounds; ++round)
+  {
+    todo.clear();
+    for (std::size_t i = 0; i < this->M.triangles.size(); ++i)
+    {
+      this->poll();
+      const int t = static_cast<int>(i);
+      for (int k = 0; k < 3 && this->M.region[t] >= 0 && this->Live[t]; ++k)
+      {
+        const int u = this->Nbr[t][k];
+        const double l2 =
+          norm2(this->X(this->M.triangles[t][(k + 1) % 3]) - this->X(this->M.triangles[t][k]));
+        if (l2 > limit2 && !(u >= 0 && u < t && this->M.region[u] >= 0 && this->Live[u]))
+        {
+          todo.emplace_back(-l2, t, k); // (each edge once)
+        }
+      }
+    }
+    std::sort(todo.begin(), todo.end());
+    const std::size_t before = splits;
+    for (const auto& [negative, t, k] : todo)
+    {
+      this->poll();
+      const int u = this->Nbr[t][k];
+      const Vec2 a = this->X(this->M.triangles[t][k]),
+                 b = this->X(this->M.triangles[t][(k + 1) % 3]);
+      const double l = norm(b - a);
+      if (this->Inserted >= this->Budget || !(l * l > limit2) || (u >= 0 && !this->Live[u]))
+      {
+        continue; // (a split before may have changed the slot)
+      }
+      Vec2 w = 0.5 * (a + b);
+      if (this->constrained(t, k) &&
+        (!this->Split(a, b, this->M.region[t], u >= 0 ? this->M.region[u] : -1, w) ||
+          !(norm(w - a) > 1e-6 * l && norm(w - b) > 1e-6 * l)))
+      {
+        continue; // no curve point to split it at
+      }
+      if (this->splitEdge(t, k, w, created))
+      {
+        ++splits;
+        ++this->Inserted;
+      }
+    }
+    if (splits == before)
+    {
+      break;
+    }
+  }
+  return splits;
+}
+
 // The pieces of the regions (triangles joined across edges that are not constrained): the
 // piece of each triangle.
 std::vector<int> Refiner::pieces() const
@@ -1528,6 +1601,11 @@ void validate(const RefinementParams& p)
     throw ParameterError("refinement minimum edge length " + std::to_string(p.minimumEdgeLength) +
       " is not a finite value >= 0");
   }
+  if (!(p.maximumEdgeLength >= 0.0) || !std::isfinite(p.maximumEdgeLength))
+  {
+    throw ParameterError("refinement maximum edge length " + std::to_string(p.maximumEdgeLength) +
+      " is not a finite value >= 0");
+  }
   if (!(p.insertionBudget >= 0.0 && p.insertionBudget <= 100.0))
   {
     throw ParameterError("refinement insertion budget " + std::to_string(p.insertionBudget) +
@@ -1878,6 +1956,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   const std::size_t recovered = base.recoverCurves();
   const std::size_t followed = base.followCurves();
   const std::size_t dissolved = base.dissolveCorners();
+  std::size_t sized = base.splitLongEdges();
   const std::size_t flips = base.flips();
   RegionMesh best = mesh;
   Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
@@ -1935,9 +2014,12 @@ RefinementResult refinePass(RegionMesh& mesh,
     bestResult.interiorVertices += mended.interiorVertices;
     bestResult.boundaryVertices += mended.boundaryVertices;
     bestResult.budgetReached = bestResult.budgetReached || mended.budgetReached;
+    // Edges the smoothing, the collapses or a flip made longer than maximumEdgeLength.
+    sized += mender.splitLongEdges();
     bestResult.delaunayFlips += mender.flips() - flipsBefore;
   }
   (collapsed ? *collapsed : polish).countBad(bestResult);
+  bestResult.sizeVertices = sized;
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
   mesh = std::move(best);
@@ -1986,6 +2068,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     total.smoothingMoves += r.smoothingMoves;
     total.dissolvedCorners += r.dissolvedCorners;
     total.collapsedEdges += r.collapsedEdges;
+    total.sizeVertices += r.sizeVertices;
     total.badTrianglesLeft = r.badTrianglesLeft;
     total.badTrianglesAtCorners = r.badTrianglesAtCorners;
     total.budgetReached = total.budgetReached || r.budgetReached;

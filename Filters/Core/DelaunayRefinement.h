@@ -26,6 +26,10 @@ struct RefinementParams
   /// not split: the floor that ends the refinement where the input itself is finer (curves
   /// closer than this, small input angles).
   double minimumEdgeLength = 0.0;
+  /// Model units (> 0 finite, or 0 for none). A region edge longer than this is split: in
+  /// its middle, or, for a region boundary edge, at the point the BoundarySplitter gives (on
+  /// its curve), before the refinement's runs and once more after the last one.
+  double maximumEdgeLength = 0.0;
   /// At most this many vertices are inserted per triangle of the input mesh (plus 1000), per
   /// pass. Range [0, 100].
   double insertionBudget = 4.0;
@@ -106,6 +110,7 @@ struct RefinementResult
   std::size_t smoothingMoves = 0; ///< vertex moves of the smoothing after the refinement
   std::size_t dissolvedCorners = 0; ///< triangles given a neighbour's region (sharp corners)
   std::size_t collapsedEdges = 0;   ///< short edges collapsed (their vertex merged into the other)
+  std::size_t sizeVertices = 0;     ///< vertices splitting edges longer than maximumEdgeLength
 };
 
 /// The triangles around each point of a triangle list: those around point v are

@@ -419,6 +419,8 @@ void refineCompressed(CompressionResult& compressed,
       ? grid.params().minEdgeLength
       : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
   }
+  // The user's MaximumEdgeLength bounds the mesh's edges, not only the grid's.
+  rp.maximumEdgeLength = grid.params().maxEdgeLength;
   const auto separates = [](const BoundaryRails::Chain& c, int left, int right)
   { return (c.left == left && c.right == right) || (c.left == right && c.right == left); };
   const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
@@ -583,7 +585,7 @@ void refineCompressed(CompressionResult& compressed,
   compressed.triangles = std::move(rm.triangles);
   compressed.triangleRegion = std::move(rm.region);
   compressed.triangleLevel = std::move(rm.level);
-  result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices;
+  result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices + rr.sizeVertices;
   result.summary.curveVertices = rr.curveVertices;
   if (rr.budgetReached)
   {

@@ -173,6 +173,47 @@ TEST(DelaunayRefinementTest, AThinStripBetweenTwoLayersReachesTheAngleBound)
   }
 }
 
+// MaximumEdgeLength: two bands of 20-long right triangles (good angles, nothing for the angle
+// refinement) get every region edge longer than 6 split, the boundary ones on their curve
+// (middle), with the angle bound kept, each band's area kept and every vertex of the
+// boundary between the bands on its line.
+TEST(DelaunayRefinementTest, RegionEdgesLongerThanTheMaximumEdgeLengthAreSplit)
+{
+  RegionMesh m = bands({ 0.0, 20.0, 40.0 }, 100.0, 20.0);
+  RefinementParams p;
+  p.maximumEdgeLength = 6.0;
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.sizeVertices, 0u);
+  double longest = 0.0;
+  for (const auto& tri : m.triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      longest = std::max(longest, strata::norm(m.points[tri[(k + 1) % 3]] - m.points[tri[k]]));
+    }
+  }
+  EXPECT_LE(longest, 6.0);
+  EXPECT_GE(meshMinimumAngle(m), 30.0 - 1e-9);
+  const std::map<int, double> a = regionAreas(m);
+  EXPECT_NEAR(a.at(0), 2000.0, 1e-9);
+  EXPECT_NEAR(a.at(1), 2000.0, 1e-9);
+  for (const auto& [u, v] : boundaryEdges(m))
+  {
+    for (const int w : { u, v })
+    {
+      const Vec2 q = m.points[w];
+      EXPECT_TRUE(q.y == 0.0 || q.y == 20.0 || q.y == 40.0 || q.x == 0.0 || q.x == 100.0)
+        << q.x << " " << q.y;
+    }
+  }
+  // Without it nothing is split: the bands are already good.
+  RegionMesh same = bands({ 0.0, 20.0, 40.0 }, 100.0, 20.0);
+  const RefinementResult none = strata::refineDelaunay(same, middle);
+  EXPECT_EQ(none.sizeVertices, 0u);
+  EXPECT_EQ(same.triangles.size(), 20u);
+}
+
 // Curve recovery: the model has a layer (region 1) between y = 0 and y = 3 that the mesh lost
 // (it tags everything below y = 3 region 0, as a compression that put its boundary vertices
 // on the layer's upper curve would). Points of the curve y = 0 inserted where it crosses
@@ -902,6 +943,9 @@ TEST(DelaunayRefinementTest, MalformedMeshesAndParametersAreRejected)
   p = {};
   p.insertionBudget = -1.0;
   EXPECT_NE(message(good, p).find("budget"), std::string::npos);
+  p = {};
+  p.maximumEdgeLength = std::nan("");
+  EXPECT_NE(message(good, p).find("maximum edge length nan"), std::string::npos);
   RegionMesh m = good;
   m.region.pop_back();
   EXPECT_NE(message(m, {}).find("regions"), std::string::npos);

@@ -5,7 +5,7 @@
 // RegionId (Int32), MinimumAngle, MaximumAngle, RadiusRatio, Area (Float64), Level (Int32),
 // point arrays VertexClass (Int8) and Displacement (Float64, 3 components). Prints the summary
 // as JSON on stdout. Options (defaults are the library's):
-//   --max-level N --local-max-level N --tolerance X
+//   --max-level N --local-max-level N --tolerance X --max-edge-length X --min-edge-length X
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
@@ -179,6 +179,10 @@ int main(int argc, char** argv)
       p.grid.localMaxLevel = std::atoi(next());
     else if (a == "--tolerance")
       p.grid.tolerance = std::atof(next());
+    else if (a == "--max-edge-length")
+      p.grid.maxEdgeLength = std::atof(next());
+    else if (a == "--min-edge-length")
+      p.grid.minEdgeLength = std::atof(next());
     else if (a == "--spring")
       p.compression.springConfiguration = std::strcmp(next(), "edge") == 0
         ? strata::SpringConfiguration::EdgeOnly
