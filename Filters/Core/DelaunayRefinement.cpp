@@ -48,6 +48,12 @@
 //    a small angle is a triangle longer than that (Marmousi's 19-degree junctions, in
 //    triangles 30 long, 17 times its finest edge; country borders meeting a coast at 10-20
 //    degrees), and what the tip hides lies within its shortest edge of the mesh's boundary.
+//    A longer triangle whose area is a larger share has its tip cut first: both edges of the
+//    corner are split on their curves at the distance d from it at which the tip's third
+//    edge is 1.5 minimumEdgeLength long (long enough for the refinement), when d is below
+//    0.45 of both edges and the tip's area at most 0.05% of the region's; the tip is then a
+//    small triangle given away as above (a fault block's layer pinching out at 15 degrees in
+//    a triangle 30 finest edges long; Marmousi 26.6 -> 30.0 degrees).
 // 2d. Size (RefinementParams::maximumEdgeLength > 0). Every region edge longer than it is
 //    split, longest first: an unconstrained one in its middle, a constrained one at the point
 //    the BoundarySplitter gives (on its curve), with the flips of 3 around the new vertex;
@@ -149,6 +155,7 @@ constexpr int kBoldRuns = 3;             // bold runs at most
 constexpr double kDissolveLength = 16.0; // corners dissolved in triangles up to this long
                                          // (relative to minimumEdgeLength)
 constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at most
+constexpr double kTipCut = 1.5;          // 2c: a cut tip's far edge, in minimumEdgeLength
 constexpr int kSmoothingRounds = 4;      // rounds of the smoothing at most
 // A smoothing move makes no angle above max(120 degrees, the largest before).
 const double kSmoothingLargestCosine = std::cos(120.0 * kPi / 180.0);
@@ -237,6 +244,9 @@ public:
   /// Region corners sharper than the bound in small triangles given a neighbour's region
   /// (with the curve recovery's callbacks): returns the triangles retagged.
   std::size_t dissolveCorners();
+  /// The tips of the region corners sharper than the bound in triangles too long and too
+  /// large to be given away whole, split off on their curves (2c): returns the splits.
+  std::size_t cutTips(const std::map<int, double>& regionTwice);
   /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
   std::size_t splitLongEdges();
   std::vector<int> pieces() const;
@@ -1171,13 +1181,27 @@ std::size_t Refiner::dissolveCorners()
   };
   const double longest2 = std::pow(kDissolveLength * this->P.minimumEdgeLength, 2);
   // For longer triangles: twice the regions' (mesh) areas, and the regions' pieces.
-  std::vector<int> piece = this->pieces();
   std::map<int, double> regionTwice;
-  for (std::size_t t = 0; t < piece.size(); ++t)
+  const auto sumAreas = [&]()
   {
-    const auto& tri = this->M.triangles[t];
-    regionTwice[this->M.region[t]] += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+    regionTwice.clear();
+    for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+    {
+      const auto& tri = this->M.triangles[t];
+      regionTwice[this->M.region[t]] += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+    }
+  };
+  sumAreas();
+  if (this->cutTips(regionTwice) > 0)
+  {
+    count.clear();
+    for (int r : this->M.region)
+    {
+      ++count[r];
+    }
+    sumAreas();
   }
+  std::vector<int> piece = this->pieces();
   std::size_t total = 0;
   std::vector<int> todo(this->M.triangles.size()), next;
   std::iota(todo.begin(), todo.end(), 0);
@@ -1260,6 +1284,79 @@ std::size_t Refiner::dissolveCorners()
     this->flipToDelaunay();
   }
   return total;
+}
+
+std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
+{
+  const double finest = this->P.minimumEdgeLength;
+  const double longest2 = std::pow(kDissolveLength * finest, 2);
+  std::size_t cuts = 0;
+  std::vector<int> created;
+  const std::size_t nt = this->M.triangles.size();
+  for (std::size_t i = 0; i < nt && this->Inserted + 2 <= this->Budget; ++i)
+  {
+    this->poll();
+    const int t = static_cast<int>(i);
+    const int region = this->M.region[t];
+    const std::array<int, 3> tri = this->M.triangles[t];
+    const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
+    if (region < 0 || !this->Live[t] ||
+      std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
+      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region) ||
+      this->cornerAngle(t) >= this->P.minimumAngle)
+    {
+      continue; // 2c gives it away whole, or it has no sharp corner
+    }
+    const auto angles = triangleAngles(p[0], p[1], p[2]);
+    int k = -1; // the sharpest region corner
+    for (int j = 0; j < 3; ++j)
+    {
+      if (this->constrained(t, j) && this->constrained(t, (j + 2) % 3) &&
+        (k < 0 || angles[j] < angles[k]))
+      {
+        k = j;
+      }
+    }
+    // Its edges are split at distance d from it, on their curves: the far edge of the tip,
+    // 2 d sin(angle / 2), is kTipCut finest edges long (long enough for the refinement).
+    const Vec2 v = p[k], a = p[(k + 1) % 3], b = p[(k + 2) % 3];
+    const double d = kTipCut * finest / (2.0 * std::sin(0.5 * angles[k] * kPi / 180.0));
+    const double la = norm(a - v), lb = norm(b - v);
+    if (!(d < 0.45 * std::min(la, lb)) ||
+      !(d * d * std::sin(angles[k] * kPi / 180.0) <= kDeviationFraction * regionTwice.at(region)))
+    {
+      continue; // the whole triangle is hardly larger than the tip, or the tip is no small share
+    }
+    const int na = this->Nbr[t][k], nb = this->Nbr[t][(k + 2) % 3];
+    Vec2 wa, wb;
+    if (!this->Split(
+          v, v + (2.0 * d / la) * (a - v), region, na >= 0 ? this->M.region[na] : -1, wa) ||
+      !this->Split(
+        v + (2.0 * d / lb) * (b - v), v, region, nb >= 0 ? this->M.region[nb] : -1, wb) ||
+      !(norm(wa - v) > 0.5 * d && norm(wa - v) < 1.5 * d && norm(wb - v) > 0.5 * d &&
+        norm(wb - v) < 1.5 * d))
+    {
+      continue;
+    }
+    // t = (v, a, b): split (v, a) at wa, then (b, v) of t = (v, wa, b) at wb.
+    if (!this->splitEdge(t, k, wa, created))
+    {
+      continue;
+    }
+    ++cuts;
+    ++this->Inserted;
+    const int j = static_cast<int>(
+      std::find(this->M.triangles[t].begin(), this->M.triangles[t].end(), tri[(k + 2) % 3]) -
+      this->M.triangles[t].begin());
+    if (j < 3 && this->M.triangles[t][(j + 1) % 3] == tri[k] && this->constrained(t, j) &&
+      this->splitEdge(t, j, wb, created))
+    {
+      ++cuts;
+      ++this->Inserted;
+    }
+  }
+  this->R.boundaryVertices += cuts;
+  return cuts;
 }
 
 // Cosine of the smallest angle of the region triangles first..last (2 when one is not

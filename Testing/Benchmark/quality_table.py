@@ -9,6 +9,9 @@ Markdown table of what meshcheck.py recomputes from the geometry alone, plus one
 its own: the boundary deviation over the *local* edge length (issue 4's "at most one local
 edge length"): the same two-way samples as meshcheck's Hausdorff distance, each distance
 divided by the mean edge length of the mesh triangle nearest to the sample (by centroid).
+With `--models FILE_OR_DIR ...` it meshes those models instead (every .vtp of a folder, e.g.
+the output of random_faulted_sections.py), one row each (a failed run or check is a row with
+its error), and prints the counts issue 5 asks about under the table.
 """
 import argparse
 import importlib.util
@@ -45,8 +48,8 @@ def nearest_level(args, name):
     return min(counts, key=lambda level: abs(counts[level] - PAPER[name][0]))
 
 
-def run(args, name, extra):
-    model = os.path.join(DATA, name + ".vtp")
+def run(args, name, extra, model=None):
+    model = model or os.path.join(DATA, name + ".vtp")
     options = extra + args.tool_args.split()
     tag = name + ("_L%s" % extra[1] if extra else "")
     vtu = os.path.join(args.out, tag + ".vtu")
@@ -99,26 +102,60 @@ def main():
     ap.add_argument("--out", default="/tmp/stratamesh_quality")
     ap.add_argument("--tool-args", default="",
                     help="extra options for the tool on every run, e.g. \"--no-curve-recovery\"")
+    ap.add_argument("--models", nargs="+", default=None,
+                    help="mesh these .vtp files (or every .vtp of these folders) instead")
     args = ap.parse_args()
     spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
     args.checker = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(args.checker)
     os.makedirs(args.out, exist_ok=True)
     rows = []
-    for name in MODELS:
-        rows.append(run(args, name, []))
-        if name in PAPER:
-            rows.append(run(args, name, ["--max-level", str(nearest_level(args, name))]))
+    if args.models:
+        paths = []
+        for p in args.models:
+            paths += sorted(os.path.join(p, f) for f in os.listdir(p) if f.endswith(".vtp")) \
+                if os.path.isdir(p) else [p]
+        for path in paths:
+            name = os.path.basename(path)[:-4]
+            try:
+                rows.append(run(args, name, [], path))
+            except subprocess.CalledProcessError as e:
+                rows.append((name, (e.stderr or b"").decode(errors="replace").strip()[-300:]
+                             or "exit code %d" % e.returncode, 0.0))
+    else:
+        for name in MODELS:
+            rows.append(run(args, name, []))
+            if name in PAPER:
+                rows.append(run(args, name, ["--max-level", str(nearest_level(args, name))]))
     print("| model | triangles | min angle | max angle | % triangles min angle >= 30 |"
           " boundary Hausdorff / h | deviation / local edge | worst region area error |"
           " topology mismatches | seconds |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for tag, m, seconds in rows:
+        if isinstance(m, str):
+            print("| %s | failed: %s |  |  |  |  |  |  |  |  |" % (tag, m.replace("|", "/")))
+            continue
         print("| %s | %d | %.2f | %.1f | %.1f | %.2f | %.2f | %.2f%% | %d | %.2f |"
               % (tag, m["triangles"], m["min_angle"], m["max_angle"],
                  m["pct_tris_minangle_ge_30"], m["hausdorff_over_h"],
                  m["deviation_over_local_edge"], m["max_region_area_error_pct"],
                  m["topology_mismatches"], seconds))
+    if args.models:
+        ok = [m for _, m, _ in rows if not isinstance(m, str)]
+        invalid = sum(m["inverted"] + m["degenerate"] + m["folded_edges"] +
+                      m["nonmanifold_edges"] for m in ok)
+        angles = sorted(m["min_angle"] for m in ok)
+        print("\n%d models, %d failed; min angle >= 25: %d, >= 30: %d (smallest %.2f, median %.2f);"
+              " max angle <= 130: %d; area error <= 0.5%%: %d (median %.3f%%, largest %.3f%%);"
+              " topology mismatches %d; invalid triangles %d"
+              % (len(rows), len(rows) - len(ok), sum(a >= 25 for a in angles),
+                 sum(a >= 30 for a in angles), angles[0] if angles else float("nan"),
+                 float(np.median(angles)) if angles else float("nan"),
+                 sum(m["max_angle"] <= 130 for m in ok),
+                 sum(m["max_region_area_error_pct"] <= 0.5 for m in ok),
+                 float(np.median([m["max_region_area_error_pct"] for m in ok])) if ok else 0.0,
+                 max([m["max_region_area_error_pct"] for m in ok] or [0.0]),
+                 sum(m["topology_mismatches"] for m in ok), invalid))
 
 
 if __name__ == "__main__":

@@ -427,12 +427,59 @@ TEST(DelaunayRefinementTest, ASharpCornerInALongerTriangleIsDissolvedWhenItIsASm
   EXPECT_NEAR(regionAreas(pieces).at(1), 20000.0 + 5.0 * tip, 1e-6);
 }
 
+// A 10-degree region corner in a triangle 10 long (100 minimumEdgeLength), too large a share
+// of its region (0.4%) to be given away whole: its tip is cut off on the corner's two curves
+// (a small share: 0.003%) and given to a neighbour. Region 1 no longer reaches the corner
+// and keeps all but the tip; with minimumEdgeLength 0.5 (the triangle is still longer than 16
+// of them) the tip would be 4.3 long, no small share: no cut, and the corner stays.
+TEST(DelaunayRefinementTest, ASharpCornerInALargeTriangleHasItsTipCut)
+{
+  const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
+  RegionMesh m;
+  m.points = { { 0, 0 },
+    { 10, 0 },
+    { 10, tip },
+    { 0, 10 },
+    { 10, 10 },
+    { 5, -10 },
+    { 20, 0 },
+    { 20 + std::sqrt(4000.0), 0 },
+    { 20, std::sqrt(4000.0) } };
+  m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 0, 5, 1 }, { 6, 7, 8 } };
+  m.region = { 1, 0, 0, 2, 1 }; // region 1: the wedge and a second piece of area 2000
+  m.level.assign(m.triangles.size(), 0);
+  RefinementParams p;
+  p.minimumEdgeLength = 0.1;
+  p.onCurve = [](Vec2) { return true; };
+  p.regionAt = [](Vec2) { return 0; }; // (no curvePoint: no recovery, only 2c)
+  const RegionMesh before = m;
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GT(r.dissolvedCorners, 0u);
+  EXPECT_GE(r.boundaryVertices, 2u);
+  const double wedge = 2000.0 + 5.0 * tip;
+  EXPECT_LT(regionAreas(m).at(1), wedge);
+  EXPECT_GT(regionAreas(m).at(1), wedge * (1.0 - 5e-4));
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    for (const int v : m.triangles[t])
+    {
+      EXPECT_FALSE(m.region[t] == 1 && v == 0) << "triangle " << t << " still has the corner";
+    }
+  }
+  p.minimumEdgeLength = 0.5;
+  RegionMesh kept = before;
+  strata::refineDelaunay(kept, middle, p);
+  EXPECT_NEAR(regionAreas(kept).at(1), wedge, 1e-9);
+}
+
 // A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
 // minimumEdgeLength 0.5 up to which corners are dissolved); region 2 keeps its other piece, a
 // 10 x 10 triangle in region 1. With minimumEdgeLength 0.01 it is no speck (its inradius is
-// 0.45) and too long: it stays.
+// 0.45) and too long and too large to go whole: it stays, but for the tip of its 5.7-degree
+// corner, cut off on its curves (a small share of region 2).
 TEST(DelaunayRefinementTest, SpecksOfARegionGoToTheirNeighbours)
 {
   RefinementParams p;
@@ -465,7 +512,9 @@ TEST(DelaunayRefinementTest, SpecksOfARegionGoToTheirNeighbours)
   p.minimumEdgeLength = 0.01;
   RegionMesh kept = speck();
   strata::refineDelaunay(kept, middle, p);
-  EXPECT_NEAR(regionAreas(kept).at(2), 55.0, 1e-9);
+  expectValid(kept);
+  EXPECT_LT(regionAreas(kept).at(2), 55.0 - 1e-6);
+  EXPECT_GT(regionAreas(kept).at(2), 55.0 * (1.0 - 5e-4));
 
   // A 2-degree spike of region 1, 100 long, hanging from one triangle of its region: with one
   // neighbour of its region it is a speck only below half minimumEdgeLength (inradius 1.7 <
