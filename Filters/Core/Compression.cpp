@@ -969,7 +969,9 @@ void Compressor::buildSubMesh()
     frontier.swap(next);
   }
   // Local vertices: the simulated ones first, in spatial order, then the halo.
+  this->Progress.report(this->At, this->Stage);
   sortSpatially(active, this->Points);
+  this->Progress.report(this->At, this->Stage);
   this->LocalOf.assign(np, -1);
   for (int g : active)
   {

@@ -309,7 +309,7 @@ std::size_t Compressor::optimizeFlips()
     std::size_t now = 0;
     for (const int t : this->BadFaces)
     {
-      this->poll(static_cast<std::size_t>(&t - this->BadFaces.data()));
+      this->pollEach(static_cast<std::size_t>(&t - this->BadFaces.data()));
       for (int k = 0; k < 3; ++k)
       {
         const int u = this->Nbr[t][k];
@@ -356,7 +356,7 @@ std::size_t Compressor::smooth()
   std::vector<Vec2>& x = this->Sys->positions();
   for (const int& i : this->BadVertices)
   {
-    this->poll(static_cast<std::size_t>(&i - this->BadVertices.data()));
+    this->pollEach(static_cast<std::size_t>(&i - this->BadVertices.data()));
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (!this->active(i))
     {
@@ -904,7 +904,7 @@ std::size_t Compressor::refineAngles()
   for (std::size_t n = 0; n < this->BadFaces.size() && added < budget; ++n)
   {
     const int t = this->BadFaces[n];
-    this->poll(n);
+    this->pollEach(n);
     if (t >= nt)
     {
       continue;
@@ -1229,7 +1229,7 @@ std::size_t Compressor::collapseSqueezed()
   std::size_t collapsed = 0;
   for (const int& i : this->BadVertices)
   {
-    this->poll(static_cast<std::size_t>(&i - this->BadVertices.data()));
+    this->pollEach(static_cast<std::size_t>(&i - this->BadVertices.data()));
     const int s0 = this->StarStart[i], s1 = this->StarStart[i + 1];
     if (touched[i] || !this->active(i) || !(this->St[i] == Free || this->St[i] == Rail) ||
       s0 == s1 || this->starMinAngle(i, x[i]) >= goodSine)
