@@ -64,6 +64,20 @@ strata::SpringSystem makeSystem(const Lattice& l,
   return s;
 }
 
+// The lattice's points moved by up to 0.3 and velocities of up to 0.2, both varying from
+// particle to particle.
+void shaken(const Lattice& l, std::vector<Vec2>& x, std::vector<Vec2>& v)
+{
+  x = l.points;
+  v.assign(x.size(), Vec2{});
+  for (std::size_t i = 0; i < x.size(); ++i)
+  {
+    const double s = static_cast<double>(i);
+    x[i] = x[i] + Vec2{ 0.3 * std::sin(1.7 * s), 0.3 * std::cos(2.3 * s) };
+    v[i] = Vec2{ 0.1 * std::cos(0.7 * s), -0.2 * std::sin(1.1 * s) };
+  }
+}
+
 double totalEnergy(const strata::SpringSystem& s)
 {
   return s.kineticEnergy() + s.potentialEnergy();
@@ -364,14 +378,8 @@ TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
   // of length 0) and a corner on its opposite edge (a projection of length 0), all particles
   // awake and only some.
   const Lattice l = lattice(9);
-  std::vector<Vec2> x = l.points;
-  std::vector<Vec2> v(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i)
-  {
-    const double s = static_cast<double>(i);
-    x[i] = x[i] + Vec2{ 0.3 * std::sin(1.7 * s), 0.3 * std::cos(2.3 * s) };
-    v[i] = Vec2{ 0.1 * std::cos(0.7 * s), -0.2 * std::sin(1.1 * s) };
-  }
+  std::vector<Vec2> x, v;
+  shaken(l, x, v);
   x[12] = x[13];                          // an edge of length 0
   x[25] = 0.5 * (x[24] + x[35]);          // near or on an opposite edge
   x[47] = x[46] + 0.25 * (x[58] - x[46]); // on edge 46-58's line
@@ -476,14 +484,8 @@ TEST(SpringSystemTest, ASplitStepHasTheSerialForcesAndMovesEveryParticleOnce)
   // loop up to rounding, every free awake particle is moved exactly once, and without a veto
   // the moves are the serial ones.
   const Lattice l = lattice(40);
-  std::vector<Vec2> x = l.points;
-  std::vector<Vec2> v(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i)
-  {
-    const double s = static_cast<double>(i);
-    x[i] = x[i] + Vec2{ 0.3 * std::sin(1.7 * s), 0.3 * std::cos(2.3 * s) };
-    v[i] = Vec2{ 0.1 * std::cos(0.7 * s), -0.2 * std::sin(1.1 * s) };
-  }
+  std::vector<Vec2> x, v;
+  shaken(l, x, v);
   struct Counting : strata::MoveGuard
   {
     std::vector<int> asked;
