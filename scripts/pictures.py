@@ -66,7 +66,9 @@ def dark_legends(view):
     """Legends readable on the white background."""
     for rep in view.Representations:
         lut = getattr(rep, "LookupTable", None)
-        if lut is not None and getattr(rep, "Visibility", 0):
+        # (GetScalarBar makes a visible legend, titled "Name Component", where there is none)
+        if (lut is not None and getattr(rep, "Visibility", 0) and
+                hasattr(rep, "IsScalarBarVisible") and rep.IsScalarBarVisible(view)):
             bar = GetScalarBar(lut, view)
             bar.TitleColor = bar.LabelColor = [0.1, 0.1, 0.1]
 
