@@ -633,7 +633,7 @@ void SpringSystem::computeForces()
       set->addForces(this->Mesh, part, this->Params);
     }
   };
-  if (s.edgeEnd + s.triangleEnd < this->Params.splitSprings)
+  if (!this->splits())
   {
     add(s);
     return;
@@ -687,10 +687,7 @@ double SpringSystem::integrate(double dt, MoveGuard* guard)
     return this->Kind[i] == static_cast<std::uint8_t>(ParticleKind::Free) &&
       (this->Awake.empty() || this->Awake[i]);
   };
-  const std::size_t springs = this->Awake.empty()
-    ? this->Mesh.edges.size() + this->Mesh.triangles.size()
-    : this->LiveEdges.size() + this->LiveTriangles.size();
-  if (springs < this->Params.splitSprings)
+  if (!this->splits())
   {
     double largest = 0.0;
     for (std::size_t i = 0; i < n; ++i)
@@ -732,6 +729,14 @@ double SpringSystem::integrate(double dt, MoveGuard* guard)
     }
   }
   return result;
+}
+
+bool SpringSystem::splits() const
+{
+  const std::size_t springs = this->Awake.empty()
+    ? this->Mesh.edges.size() + this->Mesh.triangles.size()
+    : this->LiveEdges.size() + this->LiveTriangles.size();
+  return springs >= this->Params.splitSprings;
 }
 
 void SpringSystem::setKind(int i, ParticleKind kind)

@@ -295,6 +295,7 @@ private:
   // triangle in both, moved after the halves (empty until a split step).
   std::size_t SplitAt = 0;
   std::vector<std::uint8_t> Seam;
+  bool splits() const; // whether a step is split (SpringParams::splitSprings)
   double moveParticle(std::size_t i, double dt, MoveGuard* guard);
   void findSeam();
   void markSeam(const std::array<int, 3>& t);
