@@ -409,6 +409,7 @@ const DefaultCase kDefaultCases[] = {
   { "gulf_section_loops.vtp", 25, 130, 95 },
   { "thin_layer.vtp", 25, 130, 95 },
   { "geology_marmousi.vtp", 25, 130, 95 },
+  { "faulted_section.vtp", 25, 130, 95 }, // a 15-degree pinch-out tip in a large triangle
 };
 
 class DefaultQuality : public ::testing::TestWithParam<DefaultCase>
