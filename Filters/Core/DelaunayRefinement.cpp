@@ -247,6 +247,8 @@ public:
   /// The tips of the region corners sharper than the bound in triangles too long and too
   /// large to be given away whole, split off on their curves (2c): returns the splits.
   std::size_t cutTips(const std::map<int, double>& regionTwice);
+  /// The vertices cutTips inserted (on boundary edges) since construction.
+  std::size_t tipVertices() const { return this->TipVertices; }
   /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
   std::size_t splitLongEdges();
   std::vector<int> pieces() const;
@@ -366,6 +368,7 @@ private:
   double OffDistance = 0.0;
   std::size_t Budget = 0;
   std::size_t Inserted = 0;
+  std::size_t TipVertices = 0; // (cutTips)
   mutable std::size_t Ticks = 0;
   std::vector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
   std::vector<std::uint8_t> Live;      // positive area at the start (others are frozen)
@@ -1166,10 +1169,15 @@ std::size_t Refiner::dissolveCorners()
     return 0;
   }
   std::map<int, std::size_t> count; // triangles per region
-  for (int r : this->M.region)
+  const auto countTriangles = [&]()
   {
-    ++count[r];
-  }
+    count.clear();
+    for (int r : this->M.region)
+    {
+      ++count[r];
+    }
+  };
+  countTriangles();
   const auto around = [&](int t)
   {
     double angle = this->cornerAngle(t);
@@ -1194,11 +1202,7 @@ std::size_t Refiner::dissolveCorners()
   sumAreas();
   if (this->cutTips(regionTwice) > 0)
   {
-    count.clear();
-    for (int r : this->M.region)
-    {
-      ++count[r];
-    }
+    countTriangles();
     sumAreas();
   }
   std::vector<int> piece = this->pieces();
@@ -1355,7 +1359,7 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
       ++this->Inserted;
     }
   }
-  this->R.boundaryVertices += cuts;
+  this->TipVertices += cuts;
   return cuts;
 }
 
@@ -2088,6 +2092,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   polish.prepare();
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
+  bestResult.boundaryVertices += base.tipVertices() + polish.tipVertices();
   bestResult.delaunayFlips += flips + polish.flips();
   std::optional<Refiner> collapsed; // the refiner of the mesh after the collapses of 6
   if (last && params.minimumAngle > 0.0)
