@@ -53,7 +53,7 @@
 //    edge is 1.5 minimumEdgeLength long (long enough for the refinement), when d is below
 //    0.45 of both edges and the tip's area at most 0.05% of the region's; the tip is then a
 //    small triangle given away as above (a fault block's layer pinching out at 15 degrees in
-//    a triangle 30 finest edges long; Marmousi 26.6 -> 30.0 degrees).
+//    a triangle longer than 16 finest edges; Marmousi 26.6 -> 30.0 degrees).
 // 2d. Size (RefinementParams::maximumEdgeLength > 0). Every region edge longer than it is
 //    split, longest first: an unconstrained one in its middle, a constrained one at the point
 //    the BoundarySplitter gives (on its curve), with the flips of 3 around the new vertex;
