@@ -133,6 +133,24 @@ std::set<std::pair<int, int>> boundaryEdges(const RegionMesh& m)
   return out;
 }
 
+// A 10-degree spike of region 1 (0, 0), (10, 0), (10, 10 tan 10 degrees) between region 0
+// above and region `below` beneath, and a second piece of region 1 of area secondArea (a
+// right triangle) away from it.
+RegionMesh spike10(double secondArea, int below)
+{
+  const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
+  RegionMesh m;
+  m.points = { { 0, 0 }, { 10, 0 }, { 10, tip }, { 0, 10 }, { 10, 10 }, { 5, -10 } };
+  m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 0, 5, 1 } };
+  m.region = { 1, 0, 0, below };
+  const double side = std::sqrt(2.0 * secondArea); // a right triangle of that area
+  m.points.insert(m.points.end(), { { 20, 0 }, { 20 + side, 0 }, { 20, side } });
+  m.triangles.push_back({ 6, 7, 8 });
+  m.region.push_back(1);
+  m.level.assign(m.triangles.size(), 0);
+  return m;
+}
+
 void expectValid(const RegionMesh& m)
 {
   ASSERT_EQ(m.region.size(), m.triangles.size());
@@ -394,35 +412,22 @@ TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
 TEST(DelaunayRefinementTest, ASharpCornerInALongerTriangleIsDissolvedWhenItIsASmallShare)
 {
   const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
-  const auto spike = [&](double secondArea, int below)
-  {
-    RegionMesh m;
-    m.points = { { 0, 0 }, { 10, 0 }, { 10, tip }, { 0, 10 }, { 10, 10 }, { 5, -10 } };
-    m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 0, 5, 1 } };
-    m.region = { 1, 0, 0, below };
-    const double side = std::sqrt(2.0 * secondArea); // a right triangle of that area
-    m.points.insert(m.points.end(), { { 20, 0 }, { 20 + side, 0 }, { 20, side } });
-    m.triangles.push_back({ 6, 7, 8 });
-    m.region.push_back(1);
-    m.level.assign(m.triangles.size(), 0);
-    return m;
-  };
   RefinementParams p;
   p.minimumEdgeLength = 0.5;
   p.onCurve = [](Vec2) { return true; };
   p.regionAt = [](Vec2) { return 0; }; // (no curvePoint: no recovery, only the dissolving)
 
-  RegionMesh small = spike(20000.0, 2);
+  RegionMesh small = spike10(20000.0, 2);
   const RefinementResult r = strata::refineDelaunay(small, middle, p);
   expectValid(small);
   EXPECT_GT(r.dissolvedCorners, 0u);
   EXPECT_NEAR(regionAreas(small).at(1), 20000.0, 1e-6); // the second piece only
 
-  RegionMesh large = spike(40.0, 2);
+  RegionMesh large = spike10(40.0, 2);
   EXPECT_EQ(strata::refineDelaunay(large, middle, p).dissolvedCorners, 0u);
   EXPECT_NEAR(regionAreas(large).at(1), 40.0 + 5.0 * tip, 1e-9);
 
-  RegionMesh pieces = spike(20000.0, 0);
+  RegionMesh pieces = spike10(20000.0, 0);
   EXPECT_EQ(strata::refineDelaunay(pieces, middle, p).dissolvedCorners, 0u);
   EXPECT_NEAR(regionAreas(pieces).at(1), 20000.0 + 5.0 * tip, 1e-6);
 }
@@ -435,19 +440,7 @@ TEST(DelaunayRefinementTest, ASharpCornerInALongerTriangleIsDissolvedWhenItIsASm
 TEST(DelaunayRefinementTest, ASharpCornerInALargeTriangleHasItsTipCut)
 {
   const double tip = 10.0 * std::tan(10.0 * kPi / 180.0);
-  RegionMesh m;
-  m.points = { { 0, 0 },
-    { 10, 0 },
-    { 10, tip },
-    { 0, 10 },
-    { 10, 10 },
-    { 5, -10 },
-    { 20, 0 },
-    { 20 + std::sqrt(4000.0), 0 },
-    { 20, std::sqrt(4000.0) } };
-  m.triangles = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 0, 5, 1 }, { 6, 7, 8 } };
-  m.region = { 1, 0, 0, 2, 1 }; // region 1: the wedge and a second piece of area 2000
-  m.level.assign(m.triangles.size(), 0);
+  RegionMesh m = spike10(2000.0, 2); // region 1: the wedge and a second piece of area 2000
   RefinementParams p;
   p.minimumEdgeLength = 0.1;
   p.onCurve = [](Vec2) { return true; };
