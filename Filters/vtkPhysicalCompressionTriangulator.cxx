@@ -43,6 +43,7 @@ vtkPhysicalCompressionTriangulator::vtkPhysicalCompressionTriangulator()
   this->BoundaryTolerance = defaults.boundaryTolerance;
   this->MinimumAngle = strata::RefinementParams().minimumAngle;
   this->CurveRecovery = strata::MesherParams().curveRecovery;
+  this->KeepSharpCorners = strata::MesherParams().keepSharpCorners;
 }
 
 vtkPhysicalCompressionTriangulator::~vtkPhysicalCompressionTriangulator() = default;
@@ -154,6 +155,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   c.boundaryTolerance = this->BoundaryTolerance;
   params.refinement.minimumAngle = this->MinimumAngle;
   params.curveRecovery = this->CurveRecovery != 0;
+  params.keepSharpCorners = this->KeepSharpCorners != 0;
 
   strata::MesherResult result;
   try
@@ -215,8 +217,15 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
   vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));
   vtkStrataMeshOutput::AddField(fd, "RefinementVertices", static_cast<int>(s.refinementVertices));
+  vtkStrataMeshOutput::AddField(fd, "CurveVertices", static_cast<int>(s.curveVertices));
   vtkStrataMeshOutput::AddField(
     fd, "TrianglesAtSharpCorners", static_cast<int>(s.trianglesAtSharpCorners));
+  if (params.keepSharpCorners)
+  {
+    vtkStrataMeshOutput::AddField(fd, "KeptCorners", static_cast<int>(result.keptCorners.size()));
+    vtkStrataMeshOutput::AddField(
+      fd, "KeptCornerTriangles", static_cast<int>(s.keptCornerTriangles));
+  }
   auto unresolved = vtkSmartPointer<vtkIntArray>::New();
   unresolved->SetName("UnresolvedRegions");
   for (int id : result.unresolvedRegions)
@@ -268,4 +277,5 @@ void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "BoundaryTolerance: " << this->BoundaryTolerance << "\n";
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "CurveRecovery: " << this->CurveRecovery << "\n";
+  os << indent << "KeepSharpCorners: " << this->KeepSharpCorners << "\n";
 }

@@ -30,7 +30,8 @@
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
- * that) and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the optimization
+ * that), with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, and `Seconds<Stage>`
+ * per stage. `Displacement` is 0 at vertices the optimization
  * inserted.
  *
  * Output port 1: the approximated boundary (edges whose two triangles have different
@@ -242,6 +243,25 @@ public:
   vtkBooleanMacro(CurveRecovery, vtkTypeBool);
   ///@}
 
+  ///@{
+  /**
+   * Beyond the paper, with CurveRecovery and MinimumAngle above 0: keep the input's region
+   * corners sharper than MinimumAngle (pinch-outs, sharp junctions) to their apex, where the
+   * apex is a junction or sharper than FeatureAngle. Each such region's wedge, from its apex to
+   * where the refined mesh has the region on both sides, is given to the region with both
+   * sides as mesh edges, as rungs across it (vertices on both sides at the same distances from
+   * the apex, about one finest edge apart); its triangles keep the input's small angle, are not
+   * refined, and have no angle above 150 degrees. A corner that cannot be kept so is left as
+   * with the option off and named in a warning. Field data: `KeptCorners` (corners kept) and
+   * `KeptCornerTriangles` (triangles below MinimumAngle within a kept corner's reach: its wedge
+   * and the few beside it the refinement could not mend). Default off: every such corner ends
+   * where its layer is about one finest edge thick and every triangle keeps MinimumAngle.
+   */
+  vtkSetMacro(KeepSharpCorners, vtkTypeBool);
+  vtkGetMacro(KeepSharpCorners, vtkTypeBool);
+  vtkBooleanMacro(KeepSharpCorners, vtkTypeBool);
+  ///@}
+
 protected:
   vtkPhysicalCompressionTriangulator();
   ~vtkPhysicalCompressionTriangulator() override;
@@ -262,8 +282,9 @@ protected:
   vtkTypeBool FlipDegenerate;
   vtkTypeBool Optimization;
   double BoundaryTolerance;
-  double MinimumAngle;       // default from strata::RefinementParams
-  vtkTypeBool CurveRecovery; // default from strata::MesherParams
+  double MinimumAngle;          // default from strata::RefinementParams
+  vtkTypeBool CurveRecovery;    // default from strata::MesherParams
+  vtkTypeBool KeepSharpCorners; // default from strata::MesherParams
 
 private:
   vtkPhysicalCompressionTriangulator(const vtkPhysicalCompressionTriangulator&) = delete;

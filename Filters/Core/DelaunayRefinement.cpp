@@ -121,13 +121,41 @@
 //    max(5% of its length, a quarter of minimumEdgeLength) of them (the tip is cut where the
 //    wedge is a little wider); no region loses its last triangle. Up to 4 sweeps; the vertex
 //    left is no longer referenced.
+// 7. Kept corners (RefinementParams::keptCorners, with the curve recovery's callbacks; in the
+//    last pass, after 2d and before the runs of 3). A region corner of the model sharper than
+//    minimumAngle (a pinch-out's apex, a sharp junction) ends, after 2c, where its layer is
+//    about as thick as the triangles. For each corner asked for, its region's wedge from the
+//    apex to the region's nearest vertices on its two sides (the sides: the region's ring
+//    from the apex both ways) is rebuilt as rungs:
+//    - a vertex is put on the apex (there already for junctions and feature points), and on
+//      both sides at the same distances from it, minimumEdgeLength apart, or the wedge's
+//      width apart where that is more, plus the sides' own points, but not within half that
+//      of a vertex already on the side (each inserted with the flips of 2, or splitting the
+//      edge it lies on);
+//    - each side between consecutive vertices is made a mesh edge: the edges crossing it are
+//      flipped (Sloan's edge recovery), a vertex on it splits it, and what no flip clears is
+//      split where the side crosses it;
+//    - the triangles inside the outline (apex, first side, second side back) take the
+//      corner's region, and those around whose region the sides cut take the region at their
+//      centroid (the retag of 2b); then the flips of 2.
+//    The corner is kept when every new region boundary edge joins vertices on the curves, the
+//    wedge joins the region's triangles beyond it and reaches the apex, no triangle around is
+//    nearly flat, and the wedge's triangles have no angle below a quarter of the corner's nor
+//    above kKeptLargest (rungs across a thin wedge: about the corner's angle and 90 degrees);
+//    otherwise everything is undone and the corner stays as 2c left it. The kept wedges'
+//    triangles are then exempt: not refined (bad() is false), not counted by the
+//    transactions of 4, left by 2c and 6 (no collapse within their reach), and no point is
+//    inserted in them (3, 2d); a side of a wedge is split (3) only when the wedge's triangles
+//    keep those shapes. The smoothing (5) may slide their sides' vertices along the curves. What
+//    the runs cannot mend beside a wedge is counted by the mesher, with the wedge's triangles, as
+//    what keeping the corner costs.
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
 // Outside the smoothing and 6 no step moves or removes an existing vertex, and no step inverts
-// a triangle; outside the curve recovery and 2c no triangle changes region, and the regions'
-// areas change only where a boundary edge is split onto its curve (3, 2b') or a boundary
-// vertex slides or is collapsed (6).
+// a triangle; outside the curve recovery, 2c and 7 no triangle changes region, and the
+// regions' areas change only where a boundary edge is split onto its curve (3, 2b', 7) or a
+// boundary vertex slides or is collapsed (6).
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -139,6 +167,7 @@
 #include <map>
 #include <numeric>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 
@@ -156,7 +185,15 @@ constexpr double kDissolveLength = 16.0; // corners dissolved in triangles up to
                                          // (relative to minimumEdgeLength)
 constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at most
 constexpr double kTipCut = 1.5;          // 2c: a cut tip's far edge, in minimumEdgeLength
-constexpr int kSmoothingRounds = 4;      // rounds of the smoothing at most
+constexpr double kFlat =
+  1e-4; // 7: with kept corners, no flip makes a triangle with a sine below this
+constexpr double kSnap = 1e-3;         // 7: a side crossing an edge this close (relative) to an
+                                       // end on the curves passes through that end
+constexpr int kRecoveryFlips = 256;    // 7: flips tried per side edge before conforming
+constexpr double kKeptSpacing = 1.0;   // 7: a kept wedge's vertices along its sides, in
+                                       // minimumEdgeLength
+constexpr double kKeptLargest = 150.0; // 7: a kept wedge's triangles have no angle above this
+constexpr int kSmoothingRounds = 4;    // rounds of the smoothing at most
 // A smoothing move makes no angle above max(120 degrees, the largest before).
 const double kSmoothingLargestCosine = std::cos(120.0 * kPi / 180.0);
 constexpr double kSlideDeviation = 0.05;    // a slid boundary edge's middle stays this close to
@@ -201,12 +238,75 @@ void sortUnique(std::vector<int>& list)
   list.erase(std::unique(list.begin(), list.end()), list.end());
 }
 
+// Whether p lies inside the polygon (even-odd crossings).
+bool insidePolygon(const std::vector<Vec2>& polygon, Vec2 p)
+{
+  bool in = false;
+  for (std::size_t j = 0, n = polygon.size(); j < n; ++j)
+  {
+    const Vec2 a = polygon[j], b = polygon[(j + 1) % n];
+    if ((a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x))
+    {
+      in = !in;
+    }
+  }
+  return in;
+}
+
+// The point of a polyline at arc length d from its start (its end beyond).
+Vec2 pointAlong(const std::vector<Vec2>& line, double d)
+{
+  for (std::size_t j = 1; j < line.size(); ++j)
+  {
+    const double l = norm(line[j] - line[j - 1]);
+    if (d <= l && l > 0.0)
+    {
+      return line[j - 1] + (d / l) * (line[j] - line[j - 1]);
+    }
+    d -= l;
+  }
+  return line.back();
+}
+
+// The polyline's length.
+double polylineLength(const std::vector<Vec2>& line)
+{
+  double sum = 0.0;
+  for (std::size_t j = 1; j < line.size(); ++j)
+  {
+    sum += norm(line[j] - line[j - 1]);
+  }
+  return sum;
+}
+
+// The arc length along the polyline of a point within tol of it (its first such segment), or -1.
+double arcAlong(const std::vector<Vec2>& line, Vec2 p, double tol)
+{
+  double sum = 0.0;
+  for (std::size_t j = 1; j < line.size(); ++j)
+  {
+    double u = 0.0;
+    const double l = norm(line[j] - line[j - 1]);
+    if (pointSegmentDistance2(p, line[j - 1], line[j], &u) <= tol * tol)
+    {
+      return sum + u * l;
+    }
+    sum += l;
+  }
+  return -1.0;
+}
+
 // A disk where insertions must not lower the local smallest angle (see refineDelaunay()).
 struct Zone
 {
   Vec2 center;
   double radius2;
 };
+
+std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
+  const RefinementParams& P,
+  const std::vector<Zone>& avoid);
+double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest);
 
 class Refiner
 {
@@ -270,6 +370,27 @@ public:
   /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
   /// twice the longest edge), appended to `zones`.
   void zonesBelow(double angle, std::vector<Zone>& zones) const;
+  /// Step 7: the kept corners (RefinementParams::keptCorners) meshed to their apex, each
+  /// with the flips of 2. Sets `radii` and `outlines` (one per corner; 0 and empty when not
+  /// kept) and returns the corners kept. Their wedges' triangles are no longer bad for this
+  /// refiner.
+  std::size_t keepCorners(std::vector<double>& radii, std::vector<std::vector<Vec2>>& outlines);
+  /// The vertices keepCorners inserted (on the kept corners' sides) since construction.
+  std::size_t keptVertices() const { return this->KeptVertices; }
+  /// The region triangles within kept corners' wedges below minimumAngle.
+  std::size_t keptBad() const;
+  /// Takes the kept corners' wedges of another refiner of the same mesh.
+  void keepWedges(const Refiner& other) { this->Kept = other.Kept; }
+  /// Disks around the kept corners (their wedges' reach).
+  std::vector<Zone> keptDisks() const
+  {
+    std::vector<Zone> disks;
+    for (const Wedge& w : this->Kept)
+    {
+      disks.push_back({ w.apex, w.radius2 });
+    }
+    return disks;
+  }
 
 private:
   Vec2 X(int v) const { return this->M.points[v]; }
@@ -304,6 +425,7 @@ private:
     }
   }
   bool commit();
+  void undo(); // of the transaction begun last
   void replaceNeighbour(int n, int from, int to)
   {
     if (n >= 0)
@@ -346,6 +468,16 @@ private:
     }
   }
   double cornerAngle(int t) const;
+  bool inKept(int t) const;
+  bool inKept(const std::array<int, 3>& tri, int region) const;
+  bool keptShapes(const std::vector<int>& tris) const;
+  int conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path);
+  int around(int v, int t, Vec2 e, int& kv) const;
+  int nearEdge(const std::array<int, 3>& tri, Vec2 e, double tol) const;
+  int walkTo(int v, int t, Vec2 e) const;
+  int vertexAt(int v, int& t, Vec2 e, double tol);
+  bool recoverEdge(int p, int q, double tol, std::vector<int>& path);
+  bool keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2>& outline);
   double starCosine(const int* first, const int* last, double& largest) const;
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
   bool encroached(int start, Vec2 p, int& segT, int& segK);
@@ -368,7 +500,8 @@ private:
   double OffDistance = 0.0;
   std::size_t Budget = 0;
   std::size_t Inserted = 0;
-  std::size_t TipVertices = 0; // (cutTips)
+  std::size_t TipVertices = 0;  // (cutTips)
+  std::size_t KeptVertices = 0; // (keepCorners)
   mutable std::size_t Ticks = 0;
   std::vector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
   std::vector<std::uint8_t> Live;      // positive area at the start (others are frozen)
@@ -390,6 +523,17 @@ private:
   const std::vector<Zone>& Cautious;
   std::vector<int> Changed;
   RefinementResult R;
+  bool Legalize = true; // false while the kept corners' sides are conformed
+  bool Keeping = false; // in keepCorners()
+  struct Wedge
+  {
+    Vec2 apex;
+    int region;
+    double radius2;
+    double angle;              // the corner's, degrees
+    std::vector<Vec2> outline; // apex, first side, second side back
+  };
+  std::vector<Wedge> Kept; // the kept corners' wedges (their triangles are not bad)
 };
 
 void Refiner::buildNeighbours()
@@ -473,8 +617,13 @@ bool Refiner::flip(int t, int k)
     ++j;
   }
   const int d = tu[(j + 2) % 3];
-  if (!(orient2d(this->X(c), this->X(a), this->X(d)) > 0.0) ||
-    !(orient2d(this->X(d), this->X(b), this->X(c)) > 0.0))
+  // Both new triangles counter-clockwise, and, with kept corners, not nearly flat (a kept
+  // corner's sides are nearly parallel lines: three vertices on one are collinear but for the
+  // curves' tolerance).
+  const Vec2 pa = this->X(a), pb = this->X(b), pc = this->X(c), pd = this->X(d);
+  const double flat = this->Kept.empty() && !this->Keeping ? 0.0 : kFlat;
+  if (!(orient2d(pc, pa, pd) > flat * norm(pa - pc) * norm(pd - pc)) ||
+    !(orient2d(pd, pb, pc) > flat * norm(pb - pd) * norm(pc - pd)))
   {
     return false;
   }
@@ -498,7 +647,7 @@ bool Refiner::flip(int t, int k)
 // On return `around` lists the triangles around p.
 void Refiner::legalize(int p, std::vector<int>& around)
 {
-  std::vector<int> stack = around;
+  std::vector<int> stack = this->Legalize ? around : std::vector<int>();
   while (!stack.empty())
   {
     const int t = stack.back();
@@ -529,7 +678,59 @@ void Refiner::legalize(int p, std::vector<int>& around)
 bool Refiner::bad(int t) const
 {
   return this->M.region[t] >= 0 && this->Live[t] &&
-    this->smallestAngleCosine(this->M.triangles[t]) > this->CosBad;
+    this->smallestAngleCosine(this->M.triangles[t]) > this->CosBad &&
+    (this->Kept.empty() || !this->inKept(t));
+}
+
+// Whether t is a triangle of a kept corner's wedge: of its region, every vertex within the
+// wedge's radius of its apex.
+bool Refiner::inKept(int t) const
+{
+  return this->inKept(this->M.triangles[t], this->M.region[t]);
+}
+
+// Whether the triangles of kept corners' wedges among `tris` are no sharper than a quarter of
+// their corner's angle and have no angle above kKeptLargest (what step 7 makes).
+bool Refiner::keptShapes(const std::vector<int>& tris) const
+{
+  for (int t : tris)
+  {
+    const auto& tri = this->M.triangles[t];
+    for (const Wedge& w : this->Kept)
+    {
+      if (w.region == this->M.region[t] && norm2(this->X(tri[0]) - w.apex) <= w.radius2 &&
+        norm2(this->X(tri[1]) - w.apex) <= w.radius2 &&
+        norm2(this->X(tri[2]) - w.apex) <= w.radius2 &&
+        insidePolygon(
+          w.outline, (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2]))))
+      {
+        double largest = 0.0;
+        const double smallest =
+          shapeCosine(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]), largest);
+        if (smallest > std::cos(0.25 * w.angle * kPi / 180.0) ||
+          largest < std::cos(kKeptLargest * kPi / 180.0))
+        {
+          return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+bool Refiner::inKept(const std::array<int, 3>& tri, int region) const
+{
+  for (const Wedge& w : this->Kept)
+  {
+    if (w.region == region && norm2(this->X(tri[0]) - w.apex) <= w.radius2 &&
+      norm2(this->X(tri[1]) - w.apex) <= w.radius2 &&
+      norm2(this->X(tri[2]) - w.apex) <= w.radius2 &&
+      insidePolygon(w.outline, (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2]))))
+    {
+      return true;
+    }
+  }
+  return false;
 }
 
 // Corner (0..2) of the smallest angle: opposite the shortest edge.
@@ -650,9 +851,11 @@ bool Refiner::commit()
 {
   this->Recording = false;
   double before = -1.0, after = -1.0; // cosines of the smallest angles (larger = worse)
+  // (The kept corners' wedges do not count: their angles are the input's.)
   for (const Entry& e : this->Journal)
   {
-    if (this->M.region[e.t] >= 0)
+    if (this->M.region[e.t] >= 0 &&
+      (this->Kept.empty() || !this->inKept(e.tri, this->M.region[e.t])))
     {
       before = std::max(before, this->smallestAngleCosine(e.tri));
     }
@@ -668,7 +871,7 @@ bool Refiner::commit()
   }
   for (int t : this->Changed)
   {
-    if (this->M.region[t] >= 0)
+    if (this->M.region[t] >= 0 && (this->Kept.empty() || !this->inKept(t)))
     {
       after = std::max(after, this->smallestAngleCosine(this->M.triangles[t]));
     }
@@ -683,6 +886,13 @@ bool Refiner::commit()
   {
     return true;
   }
+  this->undo();
+  return false;
+}
+
+void Refiner::undo()
+{
+  this->Recording = false;
   for (auto e = this->Journal.rbegin(); e != this->Journal.rend(); ++e)
   {
     this->M.triangles[e->t] = e->tri;
@@ -698,7 +908,6 @@ bool Refiner::commit()
   this->M.points.resize(this->Points0);
   this->R.delaunayFlips = this->Flips0;
   this->Changed.clear();
-  return false;
 }
 
 // Splits the constrained edge k of t on its curve.
@@ -709,6 +918,7 @@ bool Refiner::splitBoundary(int t, int k)
   {
     return false; // beside a frozen triangle
   }
+  const bool side = !this->Kept.empty() && (this->inKept(t) || (u >= 0 && this->inKept(u)));
   const Vec2 a = this->X(this->M.triangles[t][k]), b = this->X(this->M.triangles[t][(k + 1) % 3]);
   const double l = norm(b - a);
   if (l < 2.0 * kFloor * this->P.minimumEdgeLength)
@@ -723,7 +933,12 @@ bool Refiner::splitBoundary(int t, int k)
   }
   std::vector<int> created;
   this->begin();
-  if (!this->splitEdge(t, k, w, created) || !this->commit())
+  if (!this->splitEdge(t, k, w, created) || (side && !this->keptShapes(created)))
+  {
+    this->undo(); // (a kept corner's side is split only when its wedge keeps its shapes)
+    return false;
+  }
+  if (!this->commit())
   {
     this->Recording = false;
     return false;
@@ -966,6 +1181,10 @@ std::size_t Refiner::splitLongEdges()
       {
         continue; // (a split before may have changed the slot)
       }
+      if (!this->Kept.empty() && (this->inKept(t) || (u >= 0 && this->inKept(u))))
+      {
+        continue; // a kept corner's wedge stays as step 7 made it
+      }
       Vec2 w = 0.5 * (a + b);
       if (this->constrained(t, k) &&
         (!this->Split(a, b, this->M.region[t], u >= 0 ? this->M.region[u] : -1, w) ||
@@ -1136,7 +1355,7 @@ bool Refiner::retag(int t)
 // corner of its region); 180 when it has none or is not a region triangle.
 double Refiner::cornerAngle(int t) const
 {
-  if (this->M.region[t] < 0 || !this->Live[t])
+  if (this->M.region[t] < 0 || !this->Live[t] || (!this->Kept.empty() && this->inKept(t)))
   {
     return 180.0;
   }
@@ -1515,6 +1734,7 @@ void Refiner::adopt(const Refiner& prepared)
 {
   this->Nbr = prepared.Nbr;
   this->Live = prepared.Live;
+  this->Kept = prepared.Kept;
   this->Saved.assign(this->M.triangles.size(), 0);
 }
 
@@ -1581,6 +1801,10 @@ RefinementResult Refiner::run()
       }
       continue;
     }
+    if (!this->Kept.empty() && this->inKept(s))
+    {
+      continue; // in a kept corner's wedge: left as step 7 made it
+    }
     // On an edge of s (up to rounding): split that edge, else split s.
     const auto& ts = this->M.triangles[s];
     int onEdge = -1;
@@ -1633,13 +1857,698 @@ void Refiner::countBad(RefinementResult& result) const
     }
   }
 }
+// Makes the straight segment from vertex v (of triangle t) to the point e a chain of mesh edges
+// (step 7): every edge it crosses is split where it crosses it, and e is inserted unless a
+// vertex lies within tol of it. Returns the vertex at e (t then holds it), or -1 (a frozen
+// triangle, a refused split, a walk too long). The vertices passed after v are appended to
+// `path`.
+int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
+{
+  const double tol2 = tol * tol;
+  std::vector<int> created;
+  const auto holds = [&](int x)
+  {
+    const auto& tri = this->M.triangles[x];
+    return tri[0] == v || tri[1] == v || tri[2] == v;
+  };
+  for (std::size_t x = 0; !holds(t) && x < this->M.triangles.size(); ++x)
+  {
+    t = holds(static_cast<int>(x)) ? static_cast<int>(x) : t; // (a split took v from t)
+  }
+  for (int step = 0; step < kMaxWalk; ++step)
+  {
+    const Vec2 s = this->X(v);
+    if (norm2(e - s) <= tol2)
+    {
+      return v;
+    }
+    // The triangle around v whose angle at v holds the direction to e: turning one way from t,
+    // then the other (a vertex on the mesh's border).
+    int found = -1, kv = -1;
+    for (int way = 0; way < 2 && found < 0; ++way)
+    {
+      int cur = t;
+      for (int turn = 0; turn < kMaxWalk && cur >= 0; ++turn)
+      {
+        const auto& tri = this->M.triangles[cur];
+        const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+        if (tri[k] != v)
+        {
+          return -1;
+        }
+        if (orient2d(s, this->X(tri[(k + 1) % 3]), e) >= 0.0 &&
+          orient2d(s, this->X(tri[(k + 2) % 3]), e) <= 0.0)
+        {
+          found = cur;
+          kv = k;
+          break;
+        }
+        cur = this->Nbr[cur][way == 0 ? k : (k + 2) % 3];
+        if (cur == t)
+        {
+          break;
+        }
+      }
+    }
+    if (found < 0 || !this->Live[found])
+    {
+      return -1;
+    }
+    const auto tri = this->M.triangles[found];
+    const int ia = tri[(kv + 1) % 3], ib = tri[(kv + 2) % 3];
+    const Vec2 a = this->X(ia), b = this->X(ib);
+    const double lab = norm(b - a);
+    const double beyond = -orient2d(a, b, e) / lab; // e's distance beyond the edge ab
+    int edge = -1;                                  // the edge of `found` to split, or inside
+    Vec2 w = e;
+    if (beyond <= tol)
+    {
+      // e lies in the triangle: at a vertex, on an edge or inside.
+      if (norm2(e - a) <= tol2 || norm2(e - b) <= tol2)
+      {
+        v = norm2(e - a) <= tol2 ? ia : ib;
+        t = found;
+        path.push_back(v);
+        continue;
+      }
+      edge = this->nearEdge(tri, e, tol);
+    }
+    else
+    {
+      // The segment leaves through ab, at w.
+      const double da = orient2d(s, e, a), db = orient2d(s, e, b);
+      const double lambda = da - db != 0.0 ? da / (da - db) : 0.5;
+      w = a + lambda * (b - a);
+      // A vertex on the curves this close to the crossing is on the side (up to the curves'
+      // tolerance): split there, the edge would leave a flat triangle.
+      const double snap2 = std::max(tol2, kSnap * kSnap * lab * lab);
+      const bool nearA = norm2(w - a) <= tol2 || (norm2(w - a) <= snap2 && this->P.onCurve(a));
+      const bool nearB = norm2(w - b) <= tol2 || (norm2(w - b) <= snap2 && this->P.onCurve(b));
+      if (lambda <= 0.0 || lambda >= 1.0 || nearA || nearB)
+      {
+        v = lambda <= 0.0 || (nearA && !nearB) || (nearA && norm2(w - a) <= norm2(w - b)) ? ia : ib;
+        t = found;
+        path.push_back(v);
+        continue;
+      }
+      edge = (kv + 1) % 3;
+    }
+    if (edge >= 0)
+    {
+      if (!this->splitEdge(found, edge, w, created))
+      {
+        return -1;
+      }
+    }
+    else
+    {
+      this->insertIn(found, w, created);
+    }
+    v = static_cast<int>(this->M.points.size()) - 1;
+    t = created[0];
+    path.push_back(v);
+  }
+  return -1;
+}
+
+// The edge of tri that the point e (inside it, on a kept corner's side) is so close to that
+// a vertex at e would leave a nearly flat triangle on it (within tol, or kSnap of its length):
+// that edge is split at e instead. -1 when none.
+int Refiner::nearEdge(const std::array<int, 3>& tri, Vec2 e, double tol) const
+{
+  int edge = -1;
+  double closest = HUGE_VAL;
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec2 p = this->X(tri[k]), q = this->X(tri[(k + 1) % 3]);
+    const double l = norm(q - p), d = std::fabs(orient2d(p, q, e)) / l,
+                 u = dot(e - p, q - p) / (l * l);
+    if (d <= std::max(tol, kSnap * l) && u > kSnap && u < 1.0 - kSnap && d < closest)
+    {
+      closest = d;
+      edge = k;
+    }
+  }
+  return edge;
+}
+
+// The triangle holding the point e, walked to in a straight line from vertex v (of triangle
+// t) across any edge; -1 when the walk leaves the mesh or does not end.
+int Refiner::walkTo(int v, int t, Vec2 e) const
+{
+  const Vec2 s = this->X(v);
+  int kv = -1;
+  int cur = this->around(v, t, e, kv);
+  if (cur < 0)
+  {
+    return -1;
+  }
+  int k = (kv + 1) % 3; // the edge of cur the segment s -> e leaves through, if it leaves
+  for (int step = 0; step < kMaxWalk && cur >= 0; ++step)
+  {
+    const auto& tri = this->M.triangles[cur];
+    const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
+    if (orient2d(a, b, e) >= 0.0)
+    {
+      return cur; // e on this side of the edge the segment leaves through: inside
+    }
+    const int next = this->Nbr[cur][k];
+    if (next < 0)
+    {
+      return -1;
+    }
+    // In next = (b, a, c): the segment leaves through (a, c) or (c, b).
+    const auto& nt = this->M.triangles[next];
+    int j = 0;
+    while (nt[j] != tri[(k + 1) % 3])
+    {
+      ++j;
+    }
+    const Vec2 c = this->X(nt[(j + 2) % 3]);
+    k = orient2d(s, e, c) > 0.0 ? (j + 1) % 3 : (j + 2) % 3;
+    cur = next;
+  }
+  return -1;
+}
+
+// The triangle around v (starting from t, which holds v, or any triangle when it does not)
+// whose angle at v holds the direction to e, with v's corner in kv; -1 when none (v on the
+// mesh's border, e outside).
+int Refiner::around(int v, int t, Vec2 e, int& kv) const
+{
+  const auto holds = [&](int x)
+  {
+    const auto& tri = this->M.triangles[x];
+    return tri[0] == v || tri[1] == v || tri[2] == v;
+  };
+  for (std::size_t x = 0; (t < 0 || !holds(t)) && x < this->M.triangles.size(); ++x)
+  {
+    t = holds(static_cast<int>(x)) ? static_cast<int>(x) : t;
+  }
+  if (t < 0 || !holds(t))
+  {
+    return -1;
+  }
+  const Vec2 s = this->X(v);
+  for (int way = 0; way < 2; ++way)
+  {
+    int cur = t;
+    for (int turn = 0; turn < kMaxWalk && cur >= 0; ++turn)
+    {
+      const auto& tri = this->M.triangles[cur];
+      const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+      if (orient2d(s, this->X(tri[(k + 1) % 3]), e) >= 0.0 &&
+        orient2d(s, this->X(tri[(k + 2) % 3]), e) <= 0.0)
+      {
+        kv = k;
+        return cur;
+      }
+      cur = this->Nbr[cur][way == 0 ? k : (k + 2) % 3];
+      if (cur == t)
+      {
+        break;
+      }
+    }
+  }
+  return -1;
+}
+
+// The vertex at e (a point of a kept corner's side, reached from vertex v of triangle t): a
+// vertex within tol of it, or one inserted there (on an edge within tol of it, at its
+// projection, with the flips of 2). -1 when the walk fails.
+int Refiner::vertexAt(int v, int& t, Vec2 e, double tol)
+{
+  const int s = this->walkTo(v, t, e);
+  if (s < 0 || !this->Live[s])
+  {
+    return -1;
+  }
+  const auto tri = this->M.triangles[s];
+  for (int k = 0; k < 3; ++k)
+  {
+    if (norm2(this->X(tri[k]) - e) <= tol * tol)
+    {
+      t = s;
+      return tri[k];
+    }
+  }
+  std::vector<int> created;
+  const int edge = this->nearEdge(tri, e, tol);
+  const Vec2 w = e;
+  if (edge < 0 || !this->splitEdge(s, edge, w, created))
+  {
+    if (!(orient2d(this->X(tri[0]), this->X(tri[1]), w) > 0.0 &&
+          orient2d(this->X(tri[1]), this->X(tri[2]), w) > 0.0 &&
+          orient2d(this->X(tri[2]), this->X(tri[0]), w) > 0.0))
+    {
+      return -1; // on an edge that would not split
+    }
+    this->insertIn(s, w, created);
+  }
+  const int wi = static_cast<int>(this->M.points.size()) - 1;
+  t = -1;
+  for (int c : created)
+  {
+    const auto& ct = this->M.triangles[c];
+    t = (ct[0] == wi || ct[1] == wi || ct[2] == wi) ? c : t;
+  }
+  return wi;
+}
+
+// Makes the segment between vertices p and q (of a kept corner's side) a mesh edge: edges
+// crossing it are flipped while that helps (Sloan), a vertex on it splits it in two, and what
+// flips cannot clear is conformed (conform()). Appends the vertices after p to `path`.
+bool Refiner::recoverEdge(int p, int q, double tol, std::vector<int>& path)
+{
+  std::vector<std::array<int, 2>> todo{ { p, q } };
+  int t = -1;
+  while (!todo.empty())
+  {
+    const auto [from, to] = todo.back();
+    todo.pop_back();
+    const Vec2 a0 = this->X(from), b0 = this->X(to);
+    const double l = norm(b0 - a0);
+    bool done = false;
+    for (int attempt = 0; attempt < kRecoveryFlips && !done; ++attempt)
+    {
+      int kv = -1;
+      int cur = this->around(from, t, b0, kv);
+      if (cur < 0)
+      {
+        return false;
+      }
+      t = cur;
+      auto tri = this->M.triangles[cur];
+      if (tri[(kv + 1) % 3] == to || tri[(kv + 2) % 3] == to)
+      {
+        path.push_back(to);
+        done = true;
+        break;
+      }
+      // Along the crossing edges: flip the first that flips; stop at a vertex on the segment.
+      int k = (kv + 1) % 3;
+      bool flipped = false;
+      int onSegment = -1;
+      for (int step = 0; step < kMaxWalk && !flipped && onSegment < 0; ++step)
+      {
+        const int next = this->Nbr[cur][k];
+        if (next < 0 || !this->Live[next])
+        {
+          return false;
+        }
+        const auto& nt = this->M.triangles[next];
+        int j = 0;
+        while (nt[j] != this->M.triangles[cur][(k + 1) % 3])
+        {
+          ++j;
+        }
+        const int c = nt[(j + 2) % 3];
+        if (!this->constrained(cur, k) && this->flip(cur, k))
+        {
+          flipped = true;
+          break;
+        }
+        if (c == to)
+        {
+          break;
+        }
+        if (std::fabs(orient2d(a0, b0, this->X(c))) <= tol * l)
+        {
+          onSegment = c;
+          break;
+        }
+        k = orient2d(a0, b0, this->X(c)) > 0.0 ? (j + 1) % 3 : (j + 2) % 3;
+        cur = next;
+      }
+      if (onSegment >= 0)
+      {
+        todo.push_back({ onSegment, to });
+        todo.push_back({ from, onSegment });
+        done = true;
+      }
+      else if (!flipped)
+      {
+        // Nothing flips: split what still crosses.
+        const int v = this->conform(from, t, b0, tol, path);
+        if (v != to)
+        {
+          return false;
+        }
+        done = true;
+      }
+    }
+    if (!done)
+    {
+      const int v = this->conform(from, t, b0, tol, path);
+      if (v != to)
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+std::size_t Refiner::keepCorners(std::vector<double>& radii,
+  std::vector<std::vector<Vec2>>& outlines)
+{
+  const std::vector<SharpCorner>& corners = this->P.keptCorners;
+  radii.assign(corners.size(), 0.0);
+  outlines.assign(corners.size(), {});
+  if (corners.empty() || !this->P.regionAt || !this->P.onCurve)
+  {
+    return 0;
+  }
+  std::size_t kept = 0;
+  this->Keeping = true;
+  for (std::size_t i = 0; i < corners.size(); ++i)
+  {
+    double radius2 = 0.0;
+    std::vector<Vec2> outline;
+    if (this->keepCorner(corners[i], radius2, outline))
+    {
+      radii[i] = std::sqrt(radius2);
+      outlines[i] = outline;
+      this->Kept.push_back(
+        { corners[i].apex, corners[i].region, radius2, corners[i].angle, std::move(outline) });
+      ++kept;
+    }
+  }
+  this->Keeping = false;
+  return kept;
+}
+
+// One corner of step 7 (see the top of this file): true when kept, with the squared radius its
+// wedge reaches and its outline; false with everything undone.
+bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2>& outline)
+{
+  if (c.first.size() < 2 || c.second.size() < 2)
+  {
+    return false;
+  }
+  const std::vector<Vec2>* sides[2] = { &c.first, &c.second };
+  const double reach = std::max(polylineLength(c.first), polylineLength(c.second));
+  // A vertex this close to a side is on it (the curves' vertices are within curveTolerance
+  // of them; so are the chords between them, up to the chords' sag).
+  const double onTol = std::max(1e-7 * reach, 4.0 * this->P.curveTolerance), tol = onTol;
+  // The apex vertex (and a triangle around it), and the region's vertices on each side
+  // nearest to the apex along it: where the region's wedge already is in the mesh.
+  // (And the arcs of every vertex already on a side, which the new ones keep away from.)
+  int apexV = -1, apexT = -1;
+  int nearest[2] = { -1, -1 };
+  double arc[2] = { HUGE_VAL, HUGE_VAL };
+  std::vector<double> onSide[2];
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    this->poll();
+    if (!this->Live[t])
+    {
+      continue;
+    }
+    for (int v : this->M.triangles[t])
+    {
+      const double d2 = norm2(this->X(v) - c.apex);
+      if (d2 <= tol * tol)
+      {
+        apexV = v;
+        apexT = static_cast<int>(t);
+      }
+      else if (d2 <= reach * reach)
+      {
+        for (int s = 0; s < 2; ++s)
+        {
+          const double a = arcAlong(*sides[s], this->X(v), onTol);
+          if (a >= 0.0)
+          {
+            onSide[s].push_back(a);
+          }
+          if (a >= 0.0 && a < arc[s] && this->M.region[t] == c.region)
+          {
+            arc[s] = a;
+            nearest[s] = v;
+          }
+        }
+      }
+    }
+  }
+  if (nearest[0] < 0 || nearest[1] < 0)
+  {
+    return false;
+  }
+  this->begin();
+  if (apexV < 0)
+  {
+    // No vertex at the apex (a corner the mesh cut): one is inserted there, walked to
+    // from the region's nearest vertex on the first side.
+    apexT = -1;
+    apexV = this->vertexAt(nearest[0], apexT, c.apex, tol);
+    if (apexV < 0 || norm2(this->X(apexV) - c.apex) > tol * tol)
+    {
+      this->undo();
+      return false;
+    }
+  }
+  // Vertices on both sides at the same distances from the apex (kKeptSpacing
+  // minimumEdgeLength apart, or the wedge's width where that is more, and the sides' own
+  // points), inserted (with the flips of 2); then the sides between them made mesh edges
+  // (recoverEdge()); the wedge's outline.
+  outline.assign(1, c.apex);
+  std::vector<Vec2> second;
+  bool ok = true;
+  const double spacing = kKeptSpacing * this->P.minimumEdgeLength;
+  std::vector<int> chain[2];
+  for (int s = 0; s < 2 && ok; ++s)
+  {
+    const std::vector<Vec2>& side = *sides[s];
+    std::vector<std::pair<double, Vec2>> targets;
+    double sum = 0.0;
+    for (std::size_t j = 1; j < side.size(); ++j)
+    {
+      sum += norm(side[j] - side[j - 1]);
+      if (sum < arc[s] - tol)
+      {
+        targets.emplace_back(sum, side[j]);
+      }
+    }
+    const std::size_t own = targets.size();                  // the side's points come first
+    const double widening = std::sin(c.angle * kPi / 180.0); // the wedge's width per length
+    for (double d = spacing; spacing > 0.0 && d < arc[s] - 0.5 * spacing;
+         d += std::max(spacing, widening * d))
+    {
+      const double gap = 0.5 * std::max(spacing, widening * d);
+      bool near = false;
+      for (std::size_t k = 0; k < own; ++k)
+      {
+        near = near || std::fabs(targets[k].first - d) < gap;
+      }
+      for (double a : onSide[s])
+      {
+        near = near || std::fabs(a - d) < gap;
+      }
+      if (!near)
+      {
+        targets.emplace_back(d, pointAlong(side, d));
+      }
+    }
+    std::sort(targets.begin(),
+      targets.end(),
+      [](const auto& x, const auto& y) { return x.first < y.first; });
+    chain[s].push_back(apexV);
+    int t = apexT;
+    for (std::size_t k = 0; k < targets.size() && ok; ++k)
+    {
+      const int v = this->vertexAt(chain[s].back(), t, targets[k].second, tol);
+      ok = v >= 0;
+      if (ok && v != chain[s].back())
+      {
+        chain[s].push_back(v);
+      }
+    }
+    if (ok && chain[s].back() != nearest[s])
+    {
+      chain[s].push_back(nearest[s]);
+    }
+  }
+  this->Legalize = false;
+  std::set<std::pair<int, int>> sideEdges;
+  for (int s = 0; s < 2 && ok; ++s)
+  {
+    std::vector<int> path{ chain[s][0] };
+    for (std::size_t k = 1; k < chain[s].size() && ok; ++k)
+    {
+      ok = this->recoverEdge(chain[s][k - 1], chain[s][k], tol, path);
+    }
+    for (std::size_t k = 1; k < path.size() && ok; ++k)
+    {
+      sideEdges.emplace(std::min(path[k - 1], path[k]), std::max(path[k - 1], path[k]));
+    }
+    std::vector<Vec2>& out = s == 0 ? outline : second;
+    for (std::size_t k = 1; k < path.size() && ok; ++k)
+    {
+      out.push_back(this->X(path[k]));
+    }
+  }
+  this->Legalize = true;
+  outline.insert(outline.end(), second.rbegin(), second.rend());
+  radius2 = 0.0;
+  for (Vec2 p : outline)
+  {
+    radius2 = std::max(radius2, norm2(p - c.apex));
+  }
+  radius2 *= 1.0 + 1e-9;
+  const double inTol = 1e-7 * reach;
+  const auto inside = [&](Vec2 p, bool orOn)
+  {
+    for (std::size_t j = 0, n = outline.size(); j < n && orOn; ++j)
+    {
+      if (pointSegmentDistance2(p, outline[j], outline[(j + 1) % n]) <= inTol * inTol)
+      {
+        return true;
+      }
+    }
+    return insidePolygon(outline, p);
+  };
+  // The triangles inside the outline take the corner's region.
+  std::vector<std::pair<int, int>> retagged; // (triangle, its region before)
+  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), d = this->X(tri[2]);
+    if (this->M.region[t] == c.region || !this->Live[t] || norm2(a - c.apex) > radius2 ||
+      norm2(b - c.apex) > radius2 || norm2(d - c.apex) > radius2 || !inside(a, true) ||
+      !inside(b, true) || !inside(d, true) || !inside((1.0 / 3.0) * (a + b + d), false))
+    {
+      continue;
+    }
+    retagged.emplace_back(static_cast<int>(t), this->M.region[t]);
+    this->M.region[t] = c.region;
+  }
+  // Around it, triangles cut from their region by the sides (a side's bend beyond a chord
+  // the mesh had) take the region at their centroid (retag()).
+  for (int sweep = 0; sweep < 2 && ok; ++sweep)
+  {
+    for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+    {
+      const auto& tri = this->M.triangles[t];
+      const int before = this->M.region[t];
+      if (before != c.region && norm2(this->X(tri[0]) - c.apex) <= radius2 &&
+        norm2(this->X(tri[1]) - c.apex) <= radius2 && norm2(this->X(tri[2]) - c.apex) <= radius2 &&
+        this->retag(static_cast<int>(t)))
+      {
+        retagged.emplace_back(static_cast<int>(t), before);
+      }
+    }
+  }
+  // Valid when every new region boundary edge joins two curve points, the wedge joins the
+  // region's triangles beyond it, and reaches the apex.
+  std::vector<std::uint8_t> mark(this->M.triangles.size(), 0);
+  for (const auto& [t, before] : retagged)
+  {
+    mark[t] = 1;
+  }
+  bool joins = retagged.empty(), apex = false;
+  for (const auto& [t, before] : retagged)
+  {
+    const auto& tri = this->M.triangles[t];
+    apex = apex || tri[0] == apexV || tri[1] == apexV || tri[2] == apexV;
+    for (int k = 0; k < 3 && ok; ++k)
+    {
+      const int n = this->Nbr[t][k];
+      if (n >= 0 && this->M.region[n] == c.region)
+      {
+        joins = joins || !mark[n];
+      }
+      else
+      {
+        ok = this->P.onCurve(this->X(tri[k])) && this->P.onCurve(this->X(tri[(k + 1) % 3]));
+      }
+    }
+  }
+  for (std::size_t t = 0; t < this->M.triangles.size() && ok && !apex; ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    apex = this->M.region[t] == c.region && (tri[0] == apexV || tri[1] == apexV || tri[2] == apexV);
+  }
+  // ... and both sides are region boundaries (a corner the mesh does not have, e.g. beside a
+  // spit of land thinner than the triangles, is not made).
+  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    for (int k = 0; k < 3 && ok && this->M.region[t] == c.region; ++k)
+    {
+      const int n = this->Nbr[t][k];
+      ok = n < 0 || this->M.region[n] != c.region ||
+        sideEdges.count(
+          { std::min(tri[k], tri[(k + 1) % 3]), std::max(tri[k], tri[(k + 1) % 3]) }) == 0;
+    }
+  }
+  // ... and, after the flips of 2, no triangle around it nearly flat (a vertex too close to
+  // an edge), and the wedge's triangles no worse than rungs across it: no angle below a
+  // quarter of the corner's, none above kKeptLargest.
+  if (ok)
+  {
+    this->flipToDelaunay();
+  }
+  const double cosLargest = std::cos(kKeptLargest * kPi / 180.0);
+  const double cosSmallest = std::cos(0.25 * c.angle * kPi / 180.0);
+  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), d = this->X(tri[2]);
+    if (norm2(a - c.apex) <= 4.0 * radius2 && this->Live[t])
+    {
+      ok = orient2d(a, b, d) > kFlat *
+          std::sqrt(std::max({ norm2(b - a) * norm2(d - a),
+            norm2(a - b) * norm2(d - b),
+            norm2(a - d) * norm2(b - d) }));
+      if (ok && this->M.region[t] == c.region && norm2(a - c.apex) <= radius2 &&
+        norm2(b - c.apex) <= radius2 && norm2(d - c.apex) <= radius2 &&
+        insidePolygon(outline, (1.0 / 3.0) * (a + b + d)))
+      {
+        double largest = 0.0;
+        const double smallest = shapeCosine(a, b, d, largest);
+        ok = smallest <= cosSmallest && largest >= cosLargest;
+      }
+    }
+  }
+  ok = ok && joins && apex;
+  if (!ok)
+  {
+    for (const auto& [t, before] : retagged)
+    {
+      if (static_cast<std::size_t>(t) < this->Tri0)
+      {
+        this->M.region[t] = before;
+      }
+    }
+    this->undo();
+    return false;
+  }
+  this->Recording = false;
+  this->KeptVertices += this->M.points.size() - this->Points0;
+  return true;
+}
+
+std::size_t Refiner::keptBad() const
+{
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < this->M.triangles.size() && !this->Kept.empty(); ++t)
+  {
+    const int ti = static_cast<int>(t);
+    count += this->M.region[t] >= 0 && this->Live[t] &&
+      this->smallestAngleCosine(this->M.triangles[t]) > this->CosBad && this->inKept(ti);
+  }
+  return count;
+}
+
 double Refiner::minimumAngle() const
 {
   double worst = -1.0;
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
     this->poll();
-    if (this->M.region[t] >= 0 && this->Live[t])
+    if (this->M.region[t] >= 0 && this->Live[t] &&
+      (this->Kept.empty() || !this->inKept(static_cast<int>(t))))
     {
       worst = std::max(worst, this->smallestAngleCosine(this->M.triangles[t]));
     }
@@ -1747,6 +2656,17 @@ double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest)
 // Step 6: the short edge collapses (see the top of this file). Returns the collapses.
 std::size_t collapseShortEdges(RegionMesh& m, const RefinementParams& P)
 {
+  return collapseShortEdgesAvoiding(m, P, {});
+}
+
+namespace
+{
+// collapseShortEdges() with no collapse at a triangle that has a vertex in one of `avoid` (the
+// kept corners' disks).
+std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
+  const RefinementParams& P,
+  const std::vector<Zone>& avoid)
+{
   if (!P.onCurve || !P.curveSlide || !P.curveDistance || !(P.minimumAngle > 0.0) ||
     !(P.minimumEdgeLength > 0.0))
   {
@@ -1819,6 +2739,18 @@ std::size_t collapseShortEdges(RegionMesh& m, const RefinementParams& P)
       double largest = 0.0;
       const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]), largest);
       if (!(cosine > cosBad) || cosine > 1.0)
+      {
+        continue;
+      }
+      bool near = false;
+      for (const Zone& z : avoid)
+      {
+        for (int v : tri)
+        {
+          near = near || norm2(X(v) - z.center) <= z.radius2;
+        }
+      }
+      if (near)
       {
         continue;
       }
@@ -2043,8 +2975,6 @@ std::size_t collapseShortEdges(RegionMesh& m, const RefinementParams& P)
   return total;
 }
 
-namespace
-{
 RefinementResult refinePass(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
@@ -2058,6 +2988,10 @@ RefinementResult refinePass(RegionMesh& mesh,
   const std::size_t followed = base.followCurves();
   const std::size_t dissolved = base.dissolveCorners();
   std::size_t sized = base.splitLongEdges();
+  // 7: the kept corners, in the last pass before its runs (which mend the triangles beside).
+  std::vector<double> keptRadius;
+  std::vector<std::vector<Vec2>> keptOutline;
+  const std::size_t keptCorners = last ? base.keepCorners(keptRadius, keptOutline) : 0;
   const std::size_t flips = base.flips();
   RegionMesh best = mesh;
   Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
@@ -2090,9 +3024,10 @@ RefinementResult refinePass(RegionMesh& mesh,
   }
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
   polish.prepare();
+  polish.keepWedges(base);
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
-  bestResult.boundaryVertices += base.tipVertices() + polish.tipVertices();
+  bestResult.boundaryVertices += base.tipVertices() + polish.tipVertices() + base.keptVertices();
   bestResult.delaunayFlips += flips + polish.flips();
   std::optional<Refiner> collapsed; // the refiner of the mesh after the collapses of 6
   if (last && params.minimumAngle > 0.0)
@@ -2101,11 +3036,12 @@ RefinementResult refinePass(RegionMesh& mesh,
     // (a wedge's tip in its neighbour), and no refinement ran after the smoothing: a cautious
     // run mends what it can, with what is left of the kept run's budget, once the edges too
     // short for it are collapsed.
-    bestResult.collapsedEdges = collapseShortEdges(best, params);
+    bestResult.collapsedEdges = collapseShortEdgesAvoiding(best, params, base.keptDisks());
     if (bestResult.collapsedEdges > 0)
     {
       collapsed.emplace(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
       collapsed->prepare();
+      collapsed->keepWedges(base);
       bestResult.delaunayFlips += collapsed->flips();
     }
     Refiner& mender = collapsed ? *collapsed : polish;
@@ -2121,6 +3057,10 @@ RefinementResult refinePass(RegionMesh& mesh,
     bestResult.delaunayFlips += mender.flips() - flipsBefore;
   }
   (collapsed ? *collapsed : polish).countBad(bestResult);
+  bestResult.keptCorners = keptCorners;
+  bestResult.keptCornerRadius = std::move(keptRadius);
+  bestResult.keptCornerOutline = std::move(keptOutline);
+  bestResult.keptCornerTriangles = (collapsed ? *collapsed : polish).keptBad();
   bestResult.sizeVertices = sized;
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
@@ -2173,6 +3113,10 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     total.sizeVertices += r.sizeVertices;
     total.badTrianglesLeft = r.badTrianglesLeft;
     total.badTrianglesAtCorners = r.badTrianglesAtCorners;
+    total.keptCorners = r.keptCorners;
+    total.keptCornerTriangles = r.keptCornerTriangles;
+    total.keptCornerRadius = r.keptCornerRadius;
+    total.keptCornerOutline = r.keptCornerOutline;
     total.budgetReached = total.budgetReached || r.budgetReached;
   }
   return total;

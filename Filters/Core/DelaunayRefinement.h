@@ -14,6 +14,18 @@
 namespace strata
 {
 
+/// A region corner of the model sharper than RefinementParams::minimumAngle that is kept to its
+/// apex (RefinementParams::keptCorners): the region's wedge between its two sides.
+struct SharpCorner
+{
+  Vec2 apex;          ///< where a mesh vertex sits (a junction, or a feature point of the rails)
+  int region = -1;    ///< the region whose corner it is
+  double angle = 0.0; ///< the region's angle at the apex, degrees
+  /// The region's two sides, each a polyline from the apex outward along the model's curves:
+  /// `first` with the region on its left, `second` with the region on its right.
+  std::vector<Vec2> first, second;
+};
+
 /// Parameters of refineDelaunay().
 struct RefinementParams
 {
@@ -70,6 +82,18 @@ struct RefinementParams
   /// (the halves are checked in turn): small regions (islands, small countries) keep their
   /// area.
   std::function<bool(Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)> curveDeviation;
+  /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
+  /// step 7): after the last pass, the wedge of each between its apex and the nearest vertices
+  /// of its region on its two sides is given to its region, both sides conforming (every mesh
+  /// edge they cross split where they cross it). The region's triangles within the wedge are
+  /// not refined (their small angles are the input's) and are counted in
+  /// RefinementResult::keptCornerTriangles. A corner whose apex is not a mesh vertex, whose
+  /// region has no vertex on both sides, or whose wedge would give a boundary edge off the
+  /// curves is left as the refinement made it (not counted in RefinementResult::keptCorners).
+  std::vector<SharpCorner> keptCorners;
+  /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; the
+  /// kept corners' sides pass through such vertices within twice this of them.
+  double curveTolerance = 0.0;
 };
 
 /// Throws ParameterError naming the parameter and its range.
@@ -111,6 +135,16 @@ struct RefinementResult
   std::size_t dissolvedCorners = 0; ///< triangles given a neighbour's region (sharp corners)
   std::size_t collapsedEdges = 0;   ///< short edges collapsed (their vertex merged into the other)
   std::size_t sizeVertices = 0;     ///< vertices splitting edges longer than maximumEdgeLength
+  std::size_t keptCorners = 0;      ///< RefinementParams::keptCorners meshed to their apex
+  /// Triangles of the kept corners' wedges (see keptCornerOutline) below minimumAngle (left as
+  /// the input forces them; not in badTrianglesLeft).
+  std::size_t keptCornerTriangles = 0;
+  /// Per entry of RefinementParams::keptCorners: the radius around its apex that its wedge
+  /// reaches (0 when it was not kept), and the wedge's outline (apex, first side, second side
+  /// back; empty when not kept): its region's triangles within the radius whose centroid lies
+  /// inside the outline form the wedge.
+  std::vector<double> keptCornerRadius;
+  std::vector<std::vector<Vec2>> keptCornerOutline;
 };
 
 /// The triangles around each point of a triangle list: those around point v are

@@ -102,6 +102,75 @@ std::size_t trianglesAtSharpCorners(const Model& model,
   return count;
 }
 
+constexpr double kKeptReach = 8.0; // a kept corner's sides, in finest edges across its wedge
+
+// The model's region corners sharper than `minimumAngle` (degrees) where a mesh vertex sits
+// exactly (a junction, or a point the rails stop at: sharper than featureAngle), with their
+// sides up to `reach` long (and at most half their ring): MesherParams::keepSharpCorners.
+std::vector<SharpCorner> sharpCorners(const Model& model,
+  double minimumAngle,
+  double featureAngle,
+  double minimumEdgeLength)
+{
+  constexpr double kPi = 3.14159265358979323846;
+  std::vector<std::uint8_t> junction(model.nodes.size(), 0);
+  for (int n : model.junctions)
+  {
+    junction[n] = 1;
+  }
+  std::vector<SharpCorner> corners;
+  for (const Region& region : model.regions)
+  {
+    for (const Ring& ring : region.rings)
+    {
+      const std::size_t n = ring.points.size();
+      double perimeter = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        perimeter += norm(ring.points[(i + 1) % n] - ring.points[i]);
+      }
+      for (std::size_t i = 0; i < n && n >= 3; ++i)
+      {
+        // The region lies to the left of its rings (as in trianglesAtSharpCorners).
+        const Vec2 p = ring.points[i];
+        const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
+        double angle = std::atan2(cross(next, prev), dot(next, prev)) * 180.0 / kPi;
+        angle = angle <= 0.0 ? angle + 360.0 : angle;
+        if (!(angle < minimumAngle) ||
+          !(junction[ring.nodes[i]] || (featureAngle > 0.0 && angle < featureAngle)))
+        {
+          continue;
+        }
+        // The wedge is one finest edge wide kKeptReach / 8 finest edges from its apex (up to
+        // the radians' small-angle error): the recovered layer ends well inside that.
+        const double reach = std::min(0.5 * perimeter,
+          kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3));
+        SharpCorner c;
+        c.apex = p;
+        c.region = region.id;
+        c.angle = angle;
+        for (int way : { 1, -1 })
+        {
+          std::vector<Vec2>& side = way > 0 ? c.first : c.second;
+          side.push_back(p);
+          double sum = 0.0;
+          for (std::size_t j = 1; j < n && sum < reach; ++j)
+          {
+            const Vec2 q = ring.points[(i + (way > 0 ? j : n - j)) % n];
+            const double l = norm(q - side.back());
+            const Vec2 to =
+              sum + l <= reach ? q : side.back() + ((reach - sum) / l) * (q - side.back());
+            sum = std::min(sum + l, reach);
+            side.push_back(to);
+          }
+        }
+        corners.push_back(std::move(c));
+      }
+    }
+  }
+  return corners;
+}
+
 constexpr double kSnapFloor = 5.0; // degrees: a snap leaves no smaller angle (unless one was)
 
 // Vertices of the region boundary (an edge between triangles of different regions, -1 the
@@ -421,6 +490,12 @@ void refineCompressed(CompressionResult& compressed,
   }
   // The user's MaximumEdgeLength bounds the mesh's edges, not only the grid's.
   rp.maximumEdgeLength = grid.params().maxEdgeLength;
+  if (params.keepSharpCorners && params.curveRecovery)
+  {
+    rp.keptCorners =
+      sharpCorners(model, rp.minimumAngle, params.compression.featureAngle, rp.minimumEdgeLength);
+    rp.curveTolerance = onCurveTolerance;
+  }
   const auto separates = [](const BoundaryRails::Chain& c, int left, int right)
   { return (c.left == left && c.right == right) || (c.left == right && c.right == left); };
   const BoundarySplitter splitter = [&](Vec2 a, Vec2 b, int left, int right, Vec2& at)
@@ -587,6 +662,30 @@ void refineCompressed(CompressionResult& compressed,
   compressed.triangleLevel = std::move(rm.level);
   result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices + rr.sizeVertices;
   result.summary.curveVertices = rr.curveVertices;
+  result.keptCorners.clear();
+  result.summary.sharpCorners = rp.keptCorners.size();
+  std::string left;
+  for (std::size_t i = 0; i < rp.keptCorners.size(); ++i)
+  {
+    const SharpCorner& c = rp.keptCorners[i];
+    if (i < rr.keptCornerRadius.size() && rr.keptCornerRadius[i] > 0.0)
+    {
+      result.keptCorners.push_back(
+        { c.apex, c.region, c.angle, rr.keptCornerRadius[i], rr.keptCornerOutline[i] });
+    }
+    else
+    {
+      left += (left.empty() ? "" : ", ") + std::to_string(c.region) + " (" +
+        std::to_string(static_cast<int>(std::lround(c.angle))) + " degrees)";
+    }
+  }
+  if (!left.empty())
+  {
+    result.warnings.push_back("KeepSharpCorners: these regions' corners (region id and angle) "
+                              "could not be kept to their apex and end where the layer is about "
+                              "one finest edge thick: " +
+      left);
+  }
   if (rr.budgetReached)
   {
     result.warnings.push_back("the Delaunay refinement stopped at its budget of inserted "
@@ -624,8 +723,26 @@ struct RefinedOutcome
   double areaError = 0.0;
 };
 
+// Whether the triangle abc has a vertex within a kept corner's radius (its wedge's, or one
+// beside it: what keeping the corner costs).
+bool nearKeptCorner(const std::vector<MesherResult::KeptCorner>& kept, Vec2 a, Vec2 b, Vec2 c)
+{
+  for (const MesherResult::KeptCorner& k : kept)
+  {
+    const double r2 = k.radius * k.radius;
+    if (norm2(a - k.apex) <= r2 || norm2(b - k.apex) <= r2 || norm2(c - k.apex) <= r2)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+// (The triangles near kept corners left out of the smallest angle: the retry would not mend
+// them.)
 RefinedOutcome refinedOutcome(const CompressionResult& mesh,
   const Model& model,
+  const std::vector<MesherResult::KeptCorner>& kept,
   const ProgressReporter& progress)
 {
   RefinedOutcome o;
@@ -643,7 +760,10 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
     }
     const auto& tri = mesh.triangles[t];
     const Vec2 a = mesh.points[tri[0]], b = mesh.points[tri[1]], c = mesh.points[tri[2]];
-    o.minAngle = std::min(o.minAngle, minimumAngle(a, b, c));
+    if (kept.empty() || !nearKeptCorner(kept, a, b, c))
+    {
+      o.minAngle = std::min(o.minAngle, minimumAngle(a, b, c));
+    }
     area[index] += 0.5 * orient2d(a, b, c);
   }
   for (std::size_t r = 0; r < model.regions.size(); ++r)
@@ -862,7 +982,8 @@ MesherResult triangulate(const RawPolylines& input,
     refineCompressed(
       compressed, model, field, grid, rails, params, 1.0, progress.sub(0.9, 0.93), first);
     const double target = params.refinement.minimumAngle - kRetryAngleSlack;
-    const RefinedOutcome o1 = refinedOutcome(compressed, model, progress.sub(0.9, 0.93));
+    const RefinedOutcome o1 =
+      refinedOutcome(compressed, model, first.keptCorners, progress.sub(0.9, 0.93));
     if (retry && (o1.minAngle < target || o1.areaError > kRetryAreaError))
     {
       MesherResult second;
@@ -875,7 +996,8 @@ MesherResult triangulate(const RawPolylines& input,
         kRetryMarginScale,
         progress.sub(0.93, 0.95),
         second);
-      const RefinedOutcome o2 = refinedOutcome(*retry, model, progress.sub(0.93, 0.95));
+      const RefinedOutcome o2 =
+        refinedOutcome(*retry, model, second.keptCorners, progress.sub(0.93, 0.95));
       const double a1 = std::min(o1.minAngle, target), a2 = std::min(o2.minAngle, target);
       if (a2 > a1 + kRetryAngleSlack ||
         (a2 >= a1 - kRetryAngleSlack && o2.areaError < o1.areaError) ||
@@ -886,6 +1008,8 @@ MesherResult triangulate(const RawPolylines& input,
         first = std::move(second);
       }
     }
+    result.keptCorners = first.keptCorners;
+    result.summary.sharpCorners = first.summary.sharpCorners;
     result.summary.refinementVertices = first.summary.refinementVertices;
     result.summary.curveVertices = first.summary.curveVertices;
     result.warnings.insert(result.warnings.end(), first.warnings.begin(), first.warnings.end());
@@ -955,6 +1079,13 @@ MesherResult triangulate(const RawPolylines& input,
   const QualitySummary qs = summarizeQuality(q);
   result.summary.trianglesAtSharpCorners =
     trianglesAtSharpCorners(model, result.points, result.triangles, result.minAngle);
+  for (std::size_t t = 0; t < result.triangles.size() && !result.keptCorners.empty(); ++t)
+  {
+    const auto& tri = result.triangles[t];
+    result.summary.keptCornerTriangles += result.minAngle[t] < params.refinement.minimumAngle &&
+      nearKeptCorner(
+        result.keptCorners, result.points[tri[0]], result.points[tri[1]], result.points[tri[2]]);
+  }
   if (qs.inverted + qs.degenerate > 0)
   {
     result.warnings.push_back(

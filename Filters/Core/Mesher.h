@@ -50,6 +50,15 @@ struct MesherParams
   /// Region areas within 0.5% on every bundled model (README, Measured). Default on; off gives the
   /// compressed mesh's regions, only refined.
   bool curveRecovery = true;
+  /// Beyond the paper, with the refinement and curveRecovery: keep the model's region corners
+  /// sharper than refinement.minimumAngle to their apex (pinch-outs, sharp junctions) where a
+  /// mesh vertex sits exactly (every junction; other corners when sharper than
+  /// compression.featureAngle). Each such region's wedge, from its apex to where the refined
+  /// mesh has the region on both sides, is given to the region with its two sides as mesh
+  /// edges; its triangles keep the input's small angles (MesherResult::keptCorners,
+  /// Summary::keptCornerTriangles). Default off: such corners end where the layer is about one
+  /// finest edge thick, and every triangle meets minimumAngle.
+  bool keepSharpCorners = false;
 };
 
 /// The triangulation of a model, everything in local coordinates (add `origin`).
@@ -90,6 +99,19 @@ struct MesherResult
   /// Ids of the regions whose triangles cover less than half of their model area (regions
   /// thinner or smaller than the finest triangles); each is also named in `warnings`.
   std::vector<int> unresolvedRegions;
+  /// The corners MesherParams::keepSharpCorners kept: the region `region`'s corner of `angle`
+  /// degrees at `apex` (local); its wedge reaches `radius` from the apex, and its triangles are
+  /// the region's within that radius whose centroid lies inside `outline` (apex, first side,
+  /// second side back; local).
+  struct KeptCorner
+  {
+    Vec2 apex;
+    int region = -1;
+    double angle = 0.0;
+    double radius = 0.0;
+    std::vector<Vec2> outline;
+  };
+  std::vector<KeptCorner> keptCorners;
 
   struct Summary
   {
@@ -115,6 +137,14 @@ struct MesherResult
     /// Triangles with a smallest angle below 25 degrees at a model corner sharper than 25
     /// degrees (a region's angle there): the input forces them, they are kept, not mended.
     std::size_t trianglesAtSharpCorners = 0;
+    /// With MesherParams::keepSharpCorners: the model's corners it applies to (kept or not;
+    /// MesherResult::keptCorners lists those kept, a warning names the others).
+    std::size_t sharpCorners = 0;
+    /// With MesherParams::keepSharpCorners: the triangles below refinement.minimumAngle with a
+    /// vertex within a kept corner's radius (its wedge's, and those beside it the refinement
+    /// could not mend): what keeping the corners costs. Some also count in
+    /// trianglesAtSharpCorners.
+    std::size_t keptCornerTriangles = 0;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;

@@ -3,6 +3,7 @@
 #include "Compression.h"
 #include "CoreTestUtilities.h"
 #include "Errors.h"
+#include "Quality.h"
 #include "VtpAscii.h"
 
 #include <gtest/gtest.h>
@@ -596,4 +597,107 @@ TEST(MesherTest, TrianglesAtSharpInputCornersAreCounted)
   strata_test::addClosedLoop(
     square, { { 0.0, 0.0 }, { 100.0, 0.0 }, { 100.0, 100.0 }, { 0.0, 100.0 } }, 0);
   EXPECT_EQ(strata::triangulate(square).summary.trianglesAtSharpCorners, 0u);
+}
+
+namespace
+{
+// Even-odd crossings.
+bool insideOutline(const std::vector<Vec2>& polygon, Vec2 p)
+{
+  bool in = false;
+  for (std::size_t j = 0, n = polygon.size(); j < n; ++j)
+  {
+    const Vec2 a = polygon[j], b = polygon[(j + 1) % n];
+    in ^= (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+  }
+  return in;
+}
+} // namespace
+
+// KeepSharpCorners: every corner kept is meshed to its apex as rungs of its region: a vertex on
+// the apex, the region's angle there the input's, its wedge's triangles no sharper than a
+// quarter of that and no angle above 150 degrees; the areas stay within 0.5% and every triangle
+// away from the kept corners keeps MinimumAngle. Off, the 1-degree pinch-out ends before its
+// apex.
+TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
+{
+  for (const char* file : { "pinch_out.vtp", "faulted_section.vtp" })
+  {
+    SCOPED_TRACE(file);
+    const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
+    strata::MesherParams keep;
+    keep.keepSharpCorners = true;
+    const strata::MesherResult r = strata::triangulate(raw, keep);
+    ASSERT_GE(r.keptCorners.size(), 1u);
+    EXPECT_GT(r.summary.keptCornerTriangles, 0u);
+    EXPECT_EQ(r.summary.triangles, r.triangles.size());
+    for (std::size_t t = 0; t < r.triangles.size(); ++t)
+    {
+      const auto& tri = r.triangles[t];
+      ASSERT_GT(strata::orient2d(r.points[tri[0]], r.points[tri[1]], r.points[tri[2]]), 0.0);
+    }
+    const auto within = [](const strata::MesherResult::KeptCorner& k, Vec2 p)
+    { return strata::norm2(p - k.apex) <= k.radius * k.radius * (1.0 + 1e-9); };
+    for (const strata::MesherResult::KeptCorner& k : r.keptCorners)
+    {
+      SCOPED_TRACE("region " + std::to_string(k.region) + ", " + std::to_string(k.angle) + " deg");
+      double angleAtApex = 0.0;
+      for (std::size_t t = 0; t < r.triangles.size(); ++t)
+      {
+        const auto& tri = r.triangles[t];
+        if (r.regionId[t] != k.region || !within(k, r.points[tri[0]]) ||
+          !within(k, r.points[tri[1]]) || !within(k, r.points[tri[2]]) ||
+          !insideOutline(
+            k.outline, (1.0 / 3.0) * (r.points[tri[0]] + r.points[tri[1]] + r.points[tri[2]])))
+        {
+          continue;
+        }
+        EXPECT_GE(r.minAngle[t], 0.25 * k.angle - 1e-9);
+        EXPECT_LE(r.maxAngle[t], 150.0 + 1e-9);
+        const auto angles =
+          strata::triangleAngles(r.points[tri[0]], r.points[tri[1]], r.points[tri[2]]);
+        for (int i = 0; i < 3; ++i)
+        {
+          if (strata::norm(r.points[tri[i]] - k.apex) <= 1e-9 * k.radius)
+          {
+            angleAtApex += angles[i];
+          }
+        }
+      }
+      EXPECT_NEAR(angleAtApex, k.angle, 0.05 * k.angle) << "the region's angle at the apex";
+    }
+    for (std::size_t t = 0; t < r.triangles.size(); ++t)
+    {
+      bool near = false;
+      for (const strata::MesherResult::KeptCorner& k : r.keptCorners)
+      {
+        for (int v : r.triangles[t])
+        {
+          near = near || strata::norm(r.points[v] - k.apex) <= 2.0 * k.radius;
+        }
+      }
+      if (!near)
+      {
+        EXPECT_GE(r.minAngle[t], keep.refinement.minimumAngle - 1e-6) << "triangle " << t;
+      }
+    }
+    for (const auto& ra : r.regionAreas)
+    {
+      EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
+    }
+  }
+  // Off: no triangle of the pinching layer (region 1) within 5 of its apex at (600, 40).
+  const strata::MesherResult off =
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("pinch_out.vtp")));
+  EXPECT_TRUE(off.keptCorners.empty());
+  for (std::size_t t = 0; t < off.triangles.size(); ++t)
+  {
+    for (int v : off.triangles[t])
+    {
+      if (off.regionId[t] == 1)
+      {
+        EXPECT_GT(strata::norm(off.points[v] + off.origin - Vec2{ 600.0, 40.0 }), 5.0);
+      }
+    }
+  }
 }

@@ -23,6 +23,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -88,13 +89,63 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
          "SecondsTotal",
          "BoundarySplits",
          "RefinementVertices",
+         "CurveVertices",
          "UnresolvedRegions",
          "TrianglesAtSharpCorners" })
   {
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }
+  EXPECT_EQ(fd->GetArray("KeptCorners"), nullptr) << "only with KeepSharpCorners";
   EXPECT_EQ(fd->GetArray("NumberOfTriangles")->GetTuple1(0), mesh->GetNumberOfCells());
   EXPECT_DOUBLE_EQ(fd->GetArray("MinimumAngle")->GetTuple1(0), smallest);
+}
+
+// pinch_out's 1-degree wedge (region 1, apex at (600, 40)): with KeepSharpCorners its
+// triangles reach the apex, the region's angle there is the input's, and the field data counts
+// the corner and what it costs.
+TEST(PhysicalCompressionTriangulatorTest, keep_sharp_corners_meshes_the_pinch_out_to_its_apex)
+{
+  auto reader = Reader("pinch_out.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  EXPECT_FALSE(mesher->GetKeepSharpCorners());
+  mesher->KeepSharpCornersOn();
+  auto log = Watch(mesher);
+  mesher->Update();
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
+  EXPECT_TRUE(log->Warnings.empty()) << log->Warnings;
+  vtkUnstructuredGrid* mesh = mesher->GetOutput();
+  vtkFieldData* fd = mesh->GetFieldData();
+  ASSERT_NE(fd->GetArray("KeptCorners"), nullptr);
+  ASSERT_NE(fd->GetArray("KeptCornerTriangles"), nullptr);
+  EXPECT_EQ(fd->GetArray("KeptCorners")->GetTuple1(0), 1.0);
+  EXPECT_GT(fd->GetArray("KeptCornerTriangles")->GetTuple1(0), 0.0);
+  vtkDataArray* region = mesh->GetCellData()->GetArray("RegionId");
+  double angleAtApex = 0.0;
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    EXPECT_GT(SignedArea(mesh, c), 0.0) << "triangle " << c;
+    const vtkIdType* ids = nullptr;
+    vtkIdType n = 0;
+    mesh->GetCellPoints(c, n, ids);
+    for (vtkIdType i = 0; i < n && region->GetTuple1(c) == 1.0; ++i)
+    {
+      double p[3], q[3], r[3];
+      mesh->GetPoint(ids[i], p);
+      if (std::hypot(p[0] - 600.0, p[1] - 40.0) < 1e-9)
+      {
+        mesh->GetPoint(ids[(i + 1) % 3], q);
+        mesh->GetPoint(ids[(i + 2) % 3], r);
+        angleAtApex +=
+          std::fabs(std::atan2(q[1] - p[1], q[0] - p[0]) - std::atan2(r[1] - p[1], r[0] - p[0])) *
+          180.0 / 3.14159265358979323846;
+      }
+    }
+  }
+  EXPECT_NEAR(angleAtApex, 1.0, 0.05) << "region 1's angle at the apex";
+  std::ostringstream printed;
+  mesher->Print(printed);
+  EXPECT_NE(printed.str().find("KeepSharpCorners: 1"), std::string::npos);
 }
 
 TEST(PhysicalCompressionTriangulatorTest, boundary_output_is_a_shared_curves_model_of_the_mesh)

@@ -33,6 +33,14 @@ def min_angles(mesh):
     return np.min(angles, axis=0)
 
 
+def field(mesh, name):
+    """A field data value; fails when the array is missing (dsa gives a silent VTKNoneArray)."""
+    array = mesh.VTKObject.GetFieldData().GetArray(name)
+    if array is None:
+        raise AssertionError("no field data array " + name)
+    return array.GetTuple1(0)
+
+
 def default_and_changed(file_name, **changes):
     """The mesh of a Data model with the default properties, then with `changes` applied."""
     mesh = Triangulation(Input=simple.XMLPolyDataReader(FileName=[st.data(file_name)]))
@@ -56,6 +64,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertAlmostEqual(mesh.BoundaryTolerance, 0.25)
         self.assertAlmostEqual(mesh.MinimumAngle, 30.0)
         self.assertEqual(mesh.CurveRecovery, 1)
+        self.assertEqual(mesh.KeepSharpCorners, 0)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
                      "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
                      "MinimumEdgeLength"):
@@ -157,10 +166,36 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreaterEqual(smallest, 30.0 - 1e-6)
         self.assertGreater(smallest, min_angles(off).min())
 
+    def test_keep_sharp_corners_meshes_the_pinch_out_to_its_apex(self):
+        off, on = default_and_changed("pinch_out.vtp", KeepSharpCorners=1)
+        self.assertIsNone(off.VTKObject.GetFieldData().GetArray("KeptCorners"))
+        self.assertEqual(field(on, "KeptCorners"), 1)
+        self.assertGreater(field(on, "KeptCornerTriangles"), 0)
+        # Region 1 pinches out at (600, 40) at 1 degree: with the option its triangles reach
+        # the apex and keep the input's angle there; without, they end well before it.
+        apex = np.array([600.0, 40.0])
+        for out, reaches in ((off, False), (on, True)):
+            pts = np.asarray(out.Points)[:, :2]
+            cells = np.asarray(out.Cells).reshape(-1, 4)[:, 1:]
+            layer = cells[np.asarray(out.CellData["RegionId"]) == 1]
+            at_apex = np.linalg.norm(pts[layer] - apex, axis=2) < 1e-9
+            self.assertEqual(bool(at_apex.any()), reaches)
+            self.assertTrue((signed_areas(out) > 0).all())
+        pts = np.asarray(on.Points)[:, :2]
+        cells = np.asarray(on.Cells).reshape(-1, 4)[:, 1:]
+        layer = cells[np.asarray(on.CellData["RegionId"]) == 1]
+        total = 0.0
+        for tri in layer:
+            for i in range(3):
+                if np.linalg.norm(pts[tri[i]] - apex) < 1e-9:
+                    u, v = pts[tri[(i + 1) % 3]] - apex, pts[tri[(i + 2) % 3]] - apex
+                    total += np.degrees(np.arctan2(abs(u[0] * v[1] - u[1] * v[0]), u @ v))
+        self.assertAlmostEqual(total, 1.0, delta=0.05)
+
     def test_curve_recovery_brings_back_the_thin_layer(self):
         on, off = default_and_changed("thin_layer.vtp", CurveRecovery=0)
-        self.assertEqual(off.FieldData["CurveVertices"][0], 0)
-        self.assertGreater(on.FieldData["CurveVertices"][0], 0)
+        self.assertEqual(field(off, "CurveVertices"), 0)
+        self.assertGreater(field(on, "CurveVertices"), 0)
         layer = [np.abs(signed_areas(out))[np.asarray(out.CellData["RegionId"]) == 1].sum()
                  for out in (off, on)]
         # The layer is 1.0 thick and 1000 long: about 8% of it without, most of it with.

@@ -9,7 +9,7 @@
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
-//   --curve-recovery (the default) | --no-curve-recovery
+//   --curve-recovery (the default) | --no-curve-recovery | --keep-sharp-corners
 //   --boundary OUT.vtp (approximated boundary polylines)
 #include "Mesher.h"
 #include "VtpAscii.h"
@@ -218,6 +218,8 @@ int main(int argc, char** argv)
       p.curveRecovery = true;
     else if (a == "--no-curve-recovery")
       p.curveRecovery = false;
+    else if (a == "--keep-sharp-corners")
+      p.keepSharpCorners = true;
     else if (a == "--minimum-angle")
       p.refinement.minimumAngle = std::atof(next());
     else if (a == "--rings")
@@ -242,7 +244,8 @@ int main(int argc, char** argv)
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
-                " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n",
+                " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
+                " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -257,7 +260,32 @@ int main(int argc, char** argv)
       s.boundarySplits,
       s.trianglesAtSharpCorners,
       s.refinementVertices,
-      s.curveVertices);
+      s.curveVertices,
+      s.sharpCorners,
+      r.keptCorners.size(),
+      s.keptCornerTriangles);
+    std::printf(" \"kept_corner_list\": [");
+    for (std::size_t i = 0; i < r.keptCorners.size(); ++i)
+    {
+      const auto& k = r.keptCorners[i];
+      std::printf("%s{\"x\": %.17g, \"y\": %.17g, \"region\": %d, \"angle\": %.4f, "
+                  "\"radius\": %.17g, \"outline\": [",
+        i ? ", " : "",
+        k.apex.x + r.origin.x,
+        k.apex.y + r.origin.y,
+        k.region,
+        k.angle,
+        k.radius);
+      for (std::size_t j = 0; j < k.outline.size(); ++j)
+      {
+        std::printf("%s[%.17g, %.17g]",
+          j ? ", " : "",
+          k.outline[j].x + r.origin.x,
+          k.outline[j].y + r.origin.y);
+      }
+      std::printf("]}");
+    }
+    std::printf("],\n");
     std::printf(" \"stages\": {");
     for (std::size_t i = 0; i < s.secondsPerStage.size(); ++i)
     {
