@@ -54,6 +54,13 @@
 //    0.45 of both edges and the tip's area at most 0.05% of the region's; the tip is then a
 //    small triangle given away as above (a fault block's layer pinching out at 15 degrees in
 //    a triangle longer than 16 finest edges; Marmousi 26.6 -> 30.0 degrees).
+//    Before the corners, a piece of a region (triangles joined across unconstrained edges)
+//    thinner than half minimumEdgeLength everywhere (every inradius below a quarter of it),
+//    whose area is at most 0.05% of its region's, goes whole to the neighbouring region it
+//    shares the longest boundary with: a sliver of a layer a fault cut off where the layer is
+//    thinner than the finest triangles, meshed as a strip of flat triangles that no insertion
+//    can mend (a random faulted section's 1-degree pinch-out: 8.5 -> 25.0 degrees); the
+//    collapses of 6 then take the vertices left inside its new region.
 // 2d. Size (RefinementParams::maximumEdgeLength > 0). Every region edge longer than it is
 //    split, longest first: an unconstrained one in its middle, a constrained one at the point
 //    the BoundarySplitter gives (on its curve), with the flips of 3 around the new vertex;
@@ -347,6 +354,9 @@ public:
   /// The tips of the region corners sharper than the bound in triangles too long and too
   /// large to be given away whole, split off on their curves (2c): returns the splits.
   std::size_t cutTips(const std::map<int, double>& regionTwice);
+  std::size_t dissolveThinPieces(std::vector<int>& piece,
+    std::map<int, double>& regionTwice,
+    std::map<int, std::size_t>& count);
   /// The vertices cutTips inserted (on boundary edges) since construction.
   std::size_t tipVertices() const { return this->TipVertices; }
   /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
@@ -380,7 +390,11 @@ public:
   /// The region triangles within kept corners' wedges below minimumAngle.
   std::size_t keptBad() const;
   /// Takes the kept corners' wedges of another refiner of the same mesh.
-  void keepWedges(const Refiner& other) { this->Kept = other.Kept; }
+  void keepWedges(const Refiner& other)
+  {
+    this->Kept = other.Kept;
+    this->KeepRan = other.KeepRan;
+  }
   /// Disks around the kept corners (their wedges' reach).
   std::vector<Zone> keptDisks() const
   {
@@ -524,7 +538,8 @@ private:
   std::vector<int> Changed;
   RefinementResult R;
   bool Legalize = true; // false while the kept corners' sides are conformed
-  bool Keeping = false; // in keepCorners()
+  bool Keeping = false;  // in keepCorners()
+  bool KeepRan = false;  // keepCorners() ran (on this mesh)
   struct Wedge
   {
     Vec2 apex;
@@ -1425,7 +1440,7 @@ std::size_t Refiner::dissolveCorners()
     sumAreas();
   }
   std::vector<int> piece = this->pieces();
-  std::size_t total = 0;
+  std::size_t total = this->dissolveThinPieces(piece, regionTwice, count);
   std::vector<int> todo(this->M.triangles.size()), next;
   std::iota(todo.begin(), todo.end(), 0);
   for (int sweep = 0; sweep < kDissolveSweeps && !todo.empty(); ++sweep)
@@ -1505,6 +1520,105 @@ std::size_t Refiner::dissolveCorners()
   if (total > 0)
   {
     this->flipToDelaunay();
+  }
+  return total;
+}
+
+// A piece of a region (triangles joined across unconstrained edges) thinner than half
+// minimumEdgeLength everywhere (every triangle's inradius below a quarter of it) whose area is
+// at most kDeviationFraction of its region's goes whole to the neighbouring region it shares
+// the longest boundary with (a sliver of a layer cut off by a fault, thinner than the finest
+// triangles: a strip of flat triangles, which no insertion can mend; the collapses of 6 then
+// take the vertices left inside its new region). Not within the reach of a corner of its
+// region to keep (step 7: before it ran, or when it kept the corner). Returns the triangles
+// retagged; `piece`, `regionTwice` and `count` follow.
+std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
+  std::map<int, double>& regionTwice,
+  std::map<int, std::size_t>& count)
+{
+  const double thin = 0.25 * this->P.minimumEdgeLength;
+  std::map<int, std::vector<int>> members; // piece -> triangles
+  std::map<int, bool> thinPiece;
+  std::map<int, double> pieceTwice;
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    const auto& tri = this->M.triangles[t];
+    const int id = piece[t];
+    if (this->M.region[t] < 0)
+    {
+      continue;
+    }
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    const double twiceArea = orient2d(a, b, c);
+    const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
+    members[id].push_back(static_cast<int>(t));
+    pieceTwice[id] += twiceArea;
+    const auto it = thinPiece.find(id);
+    const bool isThin = this->Live[t] && twiceArea < 2.0 * thin * perimeter; // (r = 2A / P)
+    thinPiece[id] = (it == thinPiece.end() || it->second) && isThin;
+  }
+  std::size_t total = 0;
+  for (const auto& [id, tris] : members)
+  {
+    const int old = this->M.region[tris.front()];
+    if (!thinPiece[id] || !(pieceTwice[id] <= kDeviationFraction * regionTwice[old]) ||
+      count[old] <= tris.size())
+    {
+      continue;
+    }
+    bool nearKept = false; // (a corner to keep: its thin tip is what step 7 rebuilds)
+    for (const SharpCorner& c : this->P.keptCorners)
+    {
+      bool kept = !this->KeepRan; // before step 7 every corner may be kept, after it those kept
+      for (const Wedge& w : this->Kept)
+      {
+        kept = kept || (w.region == c.region && w.apex == c.apex);
+      }
+      const double reach = std::max(polylineLength(c.first), polylineLength(c.second));
+      for (std::size_t i = 0; i < tris.size() && kept && c.region == old && !nearKept; ++i)
+      {
+        nearKept = norm2(this->X(this->M.triangles[tris[i]][0]) - c.apex) <= reach * reach;
+      }
+    }
+    if (nearKept)
+    {
+      continue;
+    }
+    std::map<int, double> shared; // neighbouring region -> boundary length with it
+    for (int t : tris)
+    {
+      const auto& tri = this->M.triangles[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        const int n = this->Nbr[t][k];
+        if (n >= 0 && this->M.region[n] >= 0 && this->M.region[n] != old && this->Live[n])
+        {
+          shared[this->M.region[n]] += norm(this->X(tri[(k + 1) % 3]) - this->X(tri[k]));
+        }
+      }
+    }
+    if (shared.empty())
+    {
+      continue;
+    }
+    const int to = std::max_element(shared.begin(),
+      shared.end(),
+      [](const auto& x, const auto& y) {
+        return x.second < y.second;
+      })->first;
+    for (int t : tris)
+    {
+      this->M.region[t] = to;
+    }
+    regionTwice[old] -= pieceTwice[id];
+    regionTwice[to] += pieceTwice[id];
+    count[old] -= tris.size();
+    count[to] += tris.size();
+    total += tris.size();
+  }
+  if (total > 0)
+  {
+    piece = this->pieces();
   }
   return total;
 }
@@ -1735,6 +1849,7 @@ void Refiner::adopt(const Refiner& prepared)
   this->Nbr = prepared.Nbr;
   this->Live = prepared.Live;
   this->Kept = prepared.Kept;
+  this->KeepRan = prepared.KeepRan;
   this->Saved.assign(this->M.triangles.size(), 0);
 }
 
@@ -2221,6 +2336,7 @@ std::size_t Refiner::keepCorners(std::vector<double>& radii,
   }
   std::size_t kept = 0;
   this->Keeping = true;
+  this->KeepRan = true;
   for (std::size_t i = 0; i < corners.size(); ++i)
   {
     double radius2 = 0.0;

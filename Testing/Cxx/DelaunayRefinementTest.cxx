@@ -538,6 +538,48 @@ TEST(DelaunayRefinementTest, SpecksOfARegionGoToTheirNeighbours)
   EXPECT_NEAR(regionAreas(stays).at(1), base + wedge, 1e-9);
 }
 
+// A piece of region 1 thinner than half minimumEdgeLength everywhere (a 0.02-thick strip
+// between regions 0 and 2, cut off from the region's large piece above: 0.02% of its area)
+// goes whole to one neighbour; with a finest edge below its thickness it stays.
+TEST(DelaunayRefinementTest, AThinPieceOfARegionGoesWholeToANeighbour)
+{
+  const auto strip = []()
+  {
+    RegionMesh m = bands({ 0.0, 10.0, 10.02, 20.0, 120.0 }, 100.0, 5.0);
+    std::replace(m.region.begin(), m.region.end(), 3, 1); // the large piece of region 1
+    return m;
+  };
+  RefinementParams p;
+  p.onCurve = [](Vec2) { return true; };
+  p.regionAt = [](Vec2 q) { return q.y < 10.0 ? 0 : (q.y < 10.02 ? 1 : (q.y < 20.0 ? 2 : 1)); };
+  p.minimumEdgeLength = 1.0;
+  RegionMesh m = strip();
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_GE(r.dissolvedCorners, 40u); // the strip's 40 triangles
+  std::set<int> took;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    const auto& tri = m.triangles[t];
+    const double y = (m.points[tri[0]].y + m.points[tri[1]].y + m.points[tri[2]].y) / 3.0;
+    if (y > 10.0 && y < 10.02)
+    {
+      EXPECT_NE(m.region[t], 1) << "triangle " << t;
+      took.insert(m.region[t]);
+    }
+  }
+  EXPECT_EQ(took.size(), 1u) << "the strip goes to one neighbour";
+  const std::map<int, double> a = regionAreas(m);
+  EXPECT_NEAR(a.at(1), 10000.0, 1e-6);
+  EXPECT_NEAR(a.at(0) + a.at(2), 1000.0 + 998.0 + 2.0, 1e-6);
+
+  p.minimumEdgeLength = 0.01;
+  RegionMesh kept = strip();
+  strata::refineDelaunay(kept, middle, p);
+  expectValid(kept);
+  EXPECT_NEAR(regionAreas(kept).at(1), 10002.0, 1e-6);
+}
+
 // With no angle to reach the mesh is only flipped to constrained Delaunay: no vertex added,
 // the region boundary edges (here the line x = 50 between two regions, and the border) are the
 // same, no edge inside a region has its opposite vertex inside the other circumcircle, and the
