@@ -538,8 +538,8 @@ private:
   std::vector<int> Changed;
   RefinementResult R;
   bool Legalize = true; // false while the kept corners' sides are conformed
-  bool Keeping = false;  // in keepCorners()
-  bool KeepRan = false;  // keepCorners() ran (on this mesh)
+  bool Keeping = false; // in keepCorners()
+  bool KeepRan = false; // keepCorners() ran (on this mesh)
   struct Wedge
   {
     Vec2 apex;
@@ -1981,15 +1981,6 @@ int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
 {
   const double tol2 = tol * tol;
   std::vector<int> created;
-  const auto holds = [&](int x)
-  {
-    const auto& tri = this->M.triangles[x];
-    return tri[0] == v || tri[1] == v || tri[2] == v;
-  };
-  for (std::size_t x = 0; !holds(t) && x < this->M.triangles.size(); ++x)
-  {
-    t = holds(static_cast<int>(x)) ? static_cast<int>(x) : t; // (a split took v from t)
-  }
   for (int step = 0; step < kMaxWalk; ++step)
   {
     const Vec2 s = this->X(v);
@@ -1997,34 +1988,8 @@ int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
     {
       return v;
     }
-    // The triangle around v whose angle at v holds the direction to e: turning one way from t,
-    // then the other (a vertex on the mesh's border).
-    int found = -1, kv = -1;
-    for (int way = 0; way < 2 && found < 0; ++way)
-    {
-      int cur = t;
-      for (int turn = 0; turn < kMaxWalk && cur >= 0; ++turn)
-      {
-        const auto& tri = this->M.triangles[cur];
-        const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-        if (tri[k] != v)
-        {
-          return -1;
-        }
-        if (orient2d(s, this->X(tri[(k + 1) % 3]), e) >= 0.0 &&
-          orient2d(s, this->X(tri[(k + 2) % 3]), e) <= 0.0)
-        {
-          found = cur;
-          kv = k;
-          break;
-        }
-        cur = this->Nbr[cur][way == 0 ? k : (k + 2) % 3];
-        if (cur == t)
-        {
-          break;
-        }
-      }
-    }
+    int kv = -1;
+    const int found = this->around(v, t, e, kv);
     if (found < 0 || !this->Live[found])
     {
       return -1;
@@ -2054,8 +2019,8 @@ int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
       const double da = orient2d(s, e, a), db = orient2d(s, e, b);
       const double lambda = da - db != 0.0 ? da / (da - db) : 0.5;
       w = a + lambda * (b - a);
-      // A vertex on the curves this close to the crossing is on the side (up to the curves'
-      // tolerance): split there, the edge would leave a flat triangle.
+      // The side passes through a vertex on the curves this close to the crossing (up to the
+      // curves' tolerance): a split there would leave a nearly flat triangle.
       const double snap2 = std::max(tol2, kSnap * kSnap * lab * lab);
       const bool nearA = norm2(w - a) <= tol2 || (norm2(w - a) <= snap2 && this->P.onCurve(a));
       const bool nearB = norm2(w - b) <= tol2 || (norm2(w - b) <= snap2 && this->P.onCurve(b));
