@@ -256,6 +256,7 @@ public:
    * `KeptCornerTriangles` (triangles below MinimumAngle within a kept corner's reach: its wedge
    * and the few beside it the refinement could not mend). Default off: every such corner ends
    * where its layer is about one finest edge thick and every triangle keeps MinimumAngle.
+   * Without CurveRecovery, Optimization or a MinimumAngle it does nothing (with a warning).
    */
   vtkSetMacro(KeepSharpCorners, vtkTypeBool);
   vtkGetMacro(KeepSharpCorners, vtkTypeBool);

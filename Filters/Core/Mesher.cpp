@@ -965,6 +965,12 @@ MesherResult triangulate(const RawPolylines& input,
   const BoundaryRails rails(model, 0.0);
   StripTreeScratch scratch;
 
+  if (params.keepSharpCorners &&
+    !(params.compression.optimize && params.refinement.minimumAngle > 0.0 && params.curveRecovery))
+  {
+    result.warnings.push_back("KeepSharpCorners has no effect without Optimization, CurveRecovery "
+                              "and MinimumAngle above 0 (no corner is cut then either)");
+  }
   if (params.compression.optimize && params.refinement.minimumAngle > 0.0)
   {
     // With the curve recovery, a mesh that misses the bounds (a triangle below MinimumAngle,

@@ -686,6 +686,16 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
       EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
     }
   }
+  // Without the curve recovery it does nothing, and says so.
+  strata::MesherParams noRecovery;
+  noRecovery.keepSharpCorners = true;
+  noRecovery.curveRecovery = false;
+  const strata::MesherResult n = strata::triangulate(
+    strata_test::readVtpAscii(strata_test::dataPath("pinch_out.vtp")), noRecovery);
+  EXPECT_TRUE(n.keptCorners.empty());
+  EXPECT_TRUE(std::any_of(n.warnings.begin(),
+    n.warnings.end(),
+    [](const std::string& w) { return w.find("KeepSharpCorners has no effect") == 0; }));
   // Off: no triangle of the pinching layer (region 1) within 5 of its apex at (600, 40).
   const strata::MesherResult off =
     strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("pinch_out.vtp")));
