@@ -1537,13 +1537,13 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
   std::map<int, std::size_t>& count)
 {
   const double thin = 0.25 * this->P.minimumEdgeLength;
-  std::map<int, std::vector<int>> members; // piece -> triangles
-  std::map<int, bool> thinPiece;
-  std::map<int, double> pieceTwice;
+  // Per piece (ids from 1): thin so far, twice its area; then the thin ones' triangles.
+  const int pieces = piece.empty() ? 0 : *std::max_element(piece.begin(), piece.end()) + 1;
+  std::vector<std::uint8_t> thinPiece(static_cast<std::size_t>(pieces), 1);
+  std::vector<double> pieceTwice(static_cast<std::size_t>(pieces), 0.0);
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
     const auto& tri = this->M.triangles[t];
-    const int id = piece[t];
     if (this->M.region[t] < 0)
     {
       continue;
@@ -1551,18 +1551,22 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
     const double twiceArea = orient2d(a, b, c);
     const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
-    members[id].push_back(static_cast<int>(t));
-    pieceTwice[id] += twiceArea;
-    const auto it = thinPiece.find(id);
-    const bool isThin = this->Live[t] && twiceArea < 2.0 * thin * perimeter; // (r = 2A / P)
-    thinPiece[id] = (it == thinPiece.end() || it->second) && isThin;
+    pieceTwice[piece[t]] += twiceArea;
+    thinPiece[piece[t]] &= this->Live[t] && twiceArea < 2.0 * thin * perimeter; // (r = 2A / P)
+  }
+  std::map<int, std::vector<int>> members; // thin piece -> triangles
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    if (this->M.region[t] >= 0 && thinPiece[piece[t]])
+    {
+      members[piece[t]].push_back(static_cast<int>(t));
+    }
   }
   std::size_t total = 0;
   for (const auto& [id, tris] : members)
   {
     const int old = this->M.region[tris.front()];
-    if (!thinPiece[id] || !(pieceTwice[id] <= kDeviationFraction * regionTwice[old]) ||
-      count[old] <= tris.size())
+    if (!(pieceTwice[id] <= kDeviationFraction * regionTwice[old]) || count[old] <= tris.size())
     {
       continue;
     }
