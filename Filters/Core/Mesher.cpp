@@ -52,6 +52,19 @@ constexpr double kUnresolvedFraction = 0.5;
 // share is named in a warning (a layer partly lost, or widened past its curves).
 constexpr double kAreaWarning = 0.1;
 
+// A region's own angle (degrees, in (0, 360]) at point i of one of its rings: the region lies
+// to the left of its rings, so the angle is the counter-clockwise turn from the next point's
+// direction to the previous point's.
+double ringAngle(const Ring& ring, std::size_t i)
+{
+  constexpr double kPi = 3.14159265358979323846;
+  const std::size_t n = ring.points.size();
+  const Vec2 p = ring.points[i];
+  const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
+  const double angle = std::atan2(cross(next, prev), dot(next, prev)) * 180.0 / kPi;
+  return angle <= 0.0 ? angle + 360.0 : angle;
+}
+
 // Triangles whose smallest angle (below kSharpCorner degrees) sits on a model node where a
 // region's own angle is below kSharpCorner: the input forces them (a vertex is placed exactly
 // on every junction and on the corners the rails stop at).
@@ -61,9 +74,6 @@ std::size_t trianglesAtSharpCorners(const Model& model,
   const std::vector<double>& minAngle)
 {
   constexpr double kSharpCorner = 25.0;
-  constexpr double kPi = 3.14159265358979323846;
-  // Each region lies to the left of its rings: its angle at a ring point is the
-  // counter-clockwise turn from the next point's direction to the previous point's.
   std::map<std::pair<double, double>, double> sharp;
   for (const Region& region : model.regions)
   {
@@ -73,9 +83,7 @@ std::size_t trianglesAtSharpCorners(const Model& model,
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
         const Vec2 p = ring.points[i];
-        const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
-        double angle = std::atan2(cross(next, prev), dot(next, prev)) * 180.0 / kPi;
-        angle = angle <= 0.0 ? angle + 360.0 : angle;
+        const double angle = ringAngle(ring, i);
         if (angle < kSharpCorner)
         {
           const std::pair<double, double> key(p.x, p.y);
@@ -102,7 +110,7 @@ std::size_t trianglesAtSharpCorners(const Model& model,
   return count;
 }
 
-constexpr double kKeptReach = 8.0; // a kept corner's sides, in finest edges across its wedge
+constexpr double kKeptReach = 8.0; // a kept corner's sides reach this many finest edges across
 
 // The model's region corners sharper than `minimumAngle` (degrees) where a mesh vertex sits
 // exactly (a junction, or a point the rails stop at: sharper than featureAngle), with their
@@ -131,18 +139,15 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
       }
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
-        // The region lies to the left of its rings (as in trianglesAtSharpCorners).
         const Vec2 p = ring.points[i];
-        const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
-        double angle = std::atan2(cross(next, prev), dot(next, prev)) * 180.0 / kPi;
-        angle = angle <= 0.0 ? angle + 360.0 : angle;
+        const double angle = ringAngle(ring, i);
         if (!(angle < minimumAngle) ||
           !(junction[ring.nodes[i]] || (featureAngle > 0.0 && angle < featureAngle)))
         {
           continue;
         }
-        // The wedge is one finest edge wide kKeptReach / 8 finest edges from its apex (up to
-        // the radians' small-angle error): the recovered layer ends well inside that.
+        // The sides reach where the wedge is about kKeptReach finest edges wide: the layer
+        // the refinement kept ends well before that.
         const double reach = std::min(0.5 * perimeter,
           kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3));
         SharpCorner c;
