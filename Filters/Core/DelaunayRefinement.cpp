@@ -192,15 +192,14 @@ constexpr double kDissolveLength = 16.0; // corners dissolved in triangles up to
                                          // (relative to minimumEdgeLength)
 constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at most
 constexpr double kTipCut = 1.5;          // 2c: a cut tip's far edge, in minimumEdgeLength
-constexpr double kFlat =
-  1e-4; // 7: with kept corners, no flip makes a triangle with a sine below this
-constexpr double kSnap = 1e-3;         // 7: a side crossing an edge this close (relative) to an
-                                       // end on the curves passes through that end
-constexpr int kRecoveryFlips = 256;    // 7: flips tried per side edge before conforming
-constexpr double kKeptSpacing = 1.0;   // 7: a kept wedge's vertices along its sides, in
-                                       // minimumEdgeLength
-constexpr double kKeptLargest = 150.0; // 7: a kept wedge's triangles have no angle above this
-constexpr int kSmoothingRounds = 4;    // rounds of the smoothing at most
+constexpr double kFlat = 1e-4;           // 7: no flip makes a triangle with a smaller sine
+constexpr double kSnap = 1e-3;           // 7: a side crossing an edge this close (relative) to an
+                                         // end on the curves passes through that end
+constexpr int kRecoveryFlips = 256;      // 7: flips tried per side edge before conforming
+constexpr double kKeptSpacing = 1.0;     // 7: a kept wedge's vertices along its sides, in
+                                         // minimumEdgeLength
+constexpr double kKeptLargest = 150.0;   // 7: a kept wedge's triangles have no angle above this
+constexpr int kSmoothingRounds = 4;      // rounds of the smoothing at most
 // A smoothing move makes no angle above max(120 degrees, the largest before).
 const double kSmoothingLargestCosine = std::cos(120.0 * kPi / 180.0);
 constexpr double kSlideDeviation = 0.05;    // a slid boundary edge's middle stays this close to
@@ -485,11 +484,14 @@ private:
   bool inKept(int t) const;
   bool inKept(const std::array<int, 3>& tri, int region) const;
   bool keptShapes(const std::vector<int>& tris) const;
+  struct Wedge;
+  const Wedge* wedgeOf(const std::array<int, 3>& tri, int region) const;
   int conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path);
   int around(int v, int t, Vec2 e, int& kv) const;
   int nearEdge(const std::array<int, 3>& tri, Vec2 e, double tol) const;
   int walkTo(int v, int t, Vec2 e) const;
   int vertexAt(int v, int& t, Vec2 e, double tol);
+  int newVertex(int s, int edge, Vec2 w, bool orInside, int& t);
   bool recoverEdge(int p, int q, double tol, std::vector<int>& path);
   bool keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2>& outline);
   double starCosine(const int* first, const int* last, double& largest) const;
@@ -697,11 +699,15 @@ bool Refiner::bad(int t) const
     (this->Kept.empty() || !this->inKept(t));
 }
 
-// Whether t is a triangle of a kept corner's wedge: of its region, every vertex within the
-// wedge's radius of its apex.
+// Whether t is a triangle of a kept corner's wedge (wedgeOf()).
 bool Refiner::inKept(int t) const
 {
-  return this->inKept(this->M.triangles[t], this->M.region[t]);
+  return this->wedgeOf(this->M.triangles[t], this->M.region[t]) != nullptr;
+}
+
+bool Refiner::inKept(const std::array<int, 3>& tri, int region) const
+{
+  return this->wedgeOf(tri, region) != nullptr;
 }
 
 // Whether the triangles of kept corners' wedges among `tris` are no sharper than a quarter of
@@ -711,29 +717,22 @@ bool Refiner::keptShapes(const std::vector<int>& tris) const
   for (int t : tris)
   {
     const auto& tri = this->M.triangles[t];
-    for (const Wedge& w : this->Kept)
+    const Wedge* w = this->wedgeOf(tri, this->M.region[t]);
+    double largest = 0.0;
+    if (w &&
+      (shapeCosine(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]), largest) >
+          std::cos(0.25 * w->angle * kPi / 180.0) ||
+        largest < std::cos(kKeptLargest * kPi / 180.0)))
     {
-      if (w.region == this->M.region[t] && norm2(this->X(tri[0]) - w.apex) <= w.radius2 &&
-        norm2(this->X(tri[1]) - w.apex) <= w.radius2 &&
-        norm2(this->X(tri[2]) - w.apex) <= w.radius2 &&
-        insidePolygon(
-          w.outline, (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2]))))
-      {
-        double largest = 0.0;
-        const double smallest =
-          shapeCosine(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]), largest);
-        if (smallest > std::cos(0.25 * w.angle * kPi / 180.0) ||
-          largest < std::cos(kKeptLargest * kPi / 180.0))
-        {
-          return false;
-        }
-      }
+      return false;
     }
   }
   return true;
 }
 
-bool Refiner::inKept(const std::array<int, 3>& tri, int region) const
+// The kept corner's wedge that a triangle of `region` with these corners lies in (of its
+// region, within the wedge's radius, its centroid inside the outline), or none.
+const Refiner::Wedge* Refiner::wedgeOf(const std::array<int, 3>& tri, int region) const
 {
   for (const Wedge& w : this->Kept)
   {
@@ -742,10 +741,10 @@ bool Refiner::inKept(const std::array<int, 3>& tri, int region) const
       norm2(this->X(tri[2]) - w.apex) <= w.radius2 &&
       insidePolygon(w.outline, (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2]))))
     {
-      return true;
+      return &w;
     }
   }
-  return false;
+  return nullptr;
 }
 
 // Corner (0..2) of the smallest angle: opposite the shortest edge.
@@ -1552,7 +1551,7 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
     const double twiceArea = orient2d(a, b, c);
     const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
     pieceTwice[piece[t]] += twiceArea;
-    thinPiece[piece[t]] &= this->Live[t] && twiceArea < 2.0 * thin * perimeter; // (r = 2A / P)
+    thinPiece[piece[t]] &= this->Live[t] && twiceArea < thin * perimeter; // (inradius: 2A / P)
   }
   std::map<int, std::vector<int>> members; // thin piece -> triangles
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
@@ -1984,7 +1983,6 @@ void Refiner::countBad(RefinementResult& result) const
 int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
 {
   const double tol2 = tol * tol;
-  std::vector<int> created;
   for (int step = 0; step < kMaxWalk; ++step)
   {
     const Vec2 s = this->X(v);
@@ -2037,19 +2035,11 @@ int Refiner::conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path)
       }
       edge = (kv + 1) % 3;
     }
-    if (edge >= 0)
+    v = this->newVertex(found, edge, w, false, t);
+    if (v < 0)
     {
-      if (!this->splitEdge(found, edge, w, created))
-      {
-        return -1;
-      }
+      return -1;
     }
-    else
-    {
-      this->insertIn(found, w, created);
-    }
-    v = static_cast<int>(this->M.points.size()) - 1;
-    t = created[0];
     path.push_back(v);
   }
   return -1;
@@ -2176,16 +2166,24 @@ int Refiner::vertexAt(int v, int& t, Vec2 e, double tol)
       return tri[k];
     }
   }
+  return this->newVertex(s, this->nearEdge(tri, e, tol), e, true, t);
+}
+
+// A new vertex at w in triangle s: its edge `edge` split at w, or, with no such edge (-1), or
+// when the split is refused and `orInside` is set, s split at w, when w lies strictly inside
+// it. Returns the vertex, with t a triangle around it, or -1.
+int Refiner::newVertex(int s, int edge, Vec2 w, bool orInside, int& t)
+{
   std::vector<int> created;
-  const int edge = this->nearEdge(tri, e, tol);
-  const Vec2 w = e;
   if (edge < 0 || !this->splitEdge(s, edge, w, created))
   {
-    if (!(orient2d(this->X(tri[0]), this->X(tri[1]), w) > 0.0 &&
-          orient2d(this->X(tri[1]), this->X(tri[2]), w) > 0.0 &&
-          orient2d(this->X(tri[2]), this->X(tri[0]), w) > 0.0))
+    const auto& tri = this->M.triangles[s];
+    if ((edge >= 0 && !orInside) ||
+      !(orient2d(this->X(tri[0]), this->X(tri[1]), w) > 0.0 &&
+        orient2d(this->X(tri[1]), this->X(tri[2]), w) > 0.0 &&
+        orient2d(this->X(tri[2]), this->X(tri[0]), w) > 0.0))
     {
-      return -1; // on an edge that would not split
+      return -1;
     }
     this->insertIn(s, w, created);
   }
