@@ -2333,7 +2333,7 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   const double reach = std::max(polylineLength(c.first), polylineLength(c.second));
   // A vertex this close to a side is on it (the curves' vertices are within curveTolerance
   // of them; so are the chords between them, up to the chords' sag).
-  const double onTol = std::max(1e-7 * reach, 4.0 * this->P.curveTolerance), tol = onTol;
+  const double tol = std::max(1e-7 * reach, 4.0 * this->P.curveTolerance);
   // The apex vertex (and a triangle around it), and the region's vertices on each side
   // nearest to the apex along it: where the region's wedge already is in the mesh.
   // (And the arcs of every vertex already on a side, which the new ones keep away from.)
@@ -2360,7 +2360,7 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
       {
         for (int s = 0; s < 2; ++s)
         {
-          const double a = arcAlong(*sides[s], this->X(v), onTol);
+          const double a = arcAlong(*sides[s], this->X(v), tol);
           if (a >= 0.0)
           {
             onSide[s].push_back(a);
@@ -2479,12 +2479,11 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
     radius2 = std::max(radius2, norm2(p - c.apex));
   }
   radius2 *= 1.0 + 1e-9;
-  const double inTol = 1e-7 * reach;
   const auto inside = [&](Vec2 p, bool orOn)
   {
     for (std::size_t j = 0, n = outline.size(); j < n && orOn; ++j)
     {
-      if (pointSegmentDistance2(p, outline[j], outline[(j + 1) % n]) <= inTol * inTol)
+      if (pointSegmentDistance2(p, outline[j], outline[(j + 1) % n]) <= tol * tol)
       {
         return true;
       }
