@@ -83,16 +83,18 @@ struct RefinementParams
   /// area.
   std::function<bool(Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)> curveDeviation;
   /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
-  /// step 7): after the last pass, the wedge of each between its apex and the nearest vertices
-  /// of its region on its two sides is given to its region, both sides conforming (every mesh
-  /// edge they cross split where they cross it). The region's triangles within the wedge are
-  /// not refined (their small angles are the input's) and are counted in
-  /// RefinementResult::keptCornerTriangles. A corner whose apex is not a mesh vertex, whose
-  /// region has no vertex on both sides, or whose wedge would give a boundary edge off the
-  /// curves is left as the refinement made it (not counted in RefinementResult::keptCorners).
+  /// step 7): in the last pass, before its refinement runs, the wedge of each between its apex
+  /// and the nearest vertices of its region on its two sides is rebuilt as rungs of its region
+  /// (vertices at equal distances from the apex on both sides, the sides made mesh edges). The
+  /// wedge's triangles are not refined (their small angles are the input's); those below
+  /// minimumAngle are counted in RefinementResult::keptCornerTriangles. A corner whose region
+  /// has no vertex on one of its sides, or whose rebuilt wedge fails a check of step 7 (a
+  /// boundary edge off the curves, a side that is not a region boundary, a nearly flat
+  /// triangle, a wedge angle below a quarter of the corner's or above 150 degrees), is left as
+  /// the refinement made it (not counted in RefinementResult::keptCorners).
   std::vector<SharpCorner> keptCorners;
-  /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; the
-  /// kept corners' sides pass through such vertices within twice this of them.
+  /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; a
+  /// vertex within four times this (or 1e-7 of a kept corner's side length) of a side is on it.
   double curveTolerance = 0.0;
 };
 
