@@ -6,21 +6,21 @@ Run by hand (not part of ctest), with Debian's Python:
 Every model is meshed twice with the default settings, without and with
 `--keep-sharp-corners`. The table gives, with the option: the model's corners it applies to
 and those kept; of the kept corners' wedges (triangles of the corner's region within its
-radius whose centroid lies inside its outline, from the tool's `kept_corner_list`), the smallest input angle kept and the smallest and
-largest triangle angles; elsewhere (every other triangle), the smallest and largest angles
-without -> with the option; `KeptCornerTriangles`; the triangles and seconds without -> with;
-and what meshcheck.py recomputes with the option (inverted or degenerate triangles, worst
-region area error, topology mismatches). Angles are recomputed from the points.
+radius whose centroid lies inside its outline, from the tool's `kept_corner_list`), the
+smallest input angle kept and the smallest and largest triangle angles; elsewhere (every
+other triangle), the smallest and largest angles without -> with the option;
+`KeptCornerTriangles`; the triangles and seconds without -> with; and what meshcheck.py
+recomputes with the option (inverted or degenerate triangles, worst region area error,
+topology mismatches). Angles are recomputed from the points, by meshcheck.py's functions.
 """
 import argparse
+import importlib.util
 import json
 import os
 import subprocess
 
 import numpy as np
 from matplotlib.path import Path
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "Data")
@@ -29,22 +29,11 @@ MODELS = ["pinch_out", "faulted_section", "geology_marmousi", "gulf_section", "g
           "lake_superior_full"]
 
 
-def angles(path):
-    """Points, triangles, regions and the three angles (degrees) of every triangle of a .vtu."""
-    reader = vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    pts = vtk_to_numpy(grid.GetPoints().GetData())[:, :2]
-    tris = vtk_to_numpy(grid.GetCells().GetConnectivityArray()).reshape(-1, 3)
-    regions = vtk_to_numpy(grid.GetCellData().GetArray("RegionId"))
-    corners = []
-    for i in range(3):
-        u = pts[tris[:, (i + 1) % 3]] - pts[tris[:, i]]
-        v = pts[tris[:, (i + 2) % 3]] - pts[tris[:, i]]
-        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        corners.append(np.degrees(np.arctan2(np.abs(cross), (u * v).sum(axis=1))))
-    return pts, tris, regions, np.stack(corners, axis=1)
+def angles(mc, path):
+    """Points, triangles, regions and the three angles (degrees) of every triangle of a .vtu,
+    read and computed by meshcheck.py (`mc`)."""
+    pts, tris, regions, _ = mc.mesh_arrays(mc.read(path), "RegionId")
+    return pts, tris, regions, mc.angles_of(pts, tris)[0]
 
 
 def run(args, model, out, keep):
@@ -52,13 +41,13 @@ def run(args, model, out, keep):
     return json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
 
 
-def row(args, model):
+def row(args, mc, model):
     name = os.path.splitext(os.path.basename(model))[0]
     off_vtu = os.path.join(args.out, name + "_off.vtu")
     on_vtu = os.path.join(args.out, name + "_keep.vtu")
     off, on = run(args, model, off_vtu, False), run(args, model, on_vtu, True)
-    _, _, _, a_off = angles(off_vtu)
-    pts, tris, regions, a_on = angles(on_vtu)
+    _, _, _, a_off = angles(mc, off_vtu)
+    pts, tris, regions, a_on = angles(mc, on_vtu)
     wedge = np.zeros(len(tris), bool)
     centroids = pts[tris].mean(axis=1)
     for k in on["kept_corner_list"]:
@@ -88,6 +77,9 @@ def main():
     ap.add_argument("--models", nargs="+", help="these .vtp files (or every .vtp of folders)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
+    spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
+    mc = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mc)
     models = [os.path.join(DATA, m + ".vtp") for m in MODELS]
     if args.models:
         models = []
@@ -101,7 +93,7 @@ def main():
     print("|" + "---|" * 14)
     for model in models:
         try:
-            print(row(args, model), flush=True)
+            print(row(args, mc, model), flush=True)
         except (subprocess.CalledProcessError, ValueError, KeyError) as e:
             print(f"| {os.path.basename(model)} | failed: {e} |", flush=True)
 
