@@ -214,6 +214,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "PercentTriangles30To60", s.percentTriangles30to60);
   vtkStrataMeshOutput::AddField(fd, "MaxBoundaryDeviation", s.maxBoundaryDeviation);
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
+  vtkStrataMeshOutput::AddField(fd, "FinestEdgeLength", s.finestEdgeLength);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
   vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));
   vtkStrataMeshOutput::AddField(fd, "RefinementVertices", static_cast<int>(s.refinementVertices));

@@ -25,7 +25,8 @@
  * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
- * `MaxRegionAreaError` (relative), `Iterations`, `BoundarySplits`, `RefinementVertices`
+ * `MaxRegionAreaError` (relative), `FinestEdgeLength` (model units: MinimumEdgeLength when
+ * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),

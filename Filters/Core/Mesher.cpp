@@ -333,6 +333,19 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
 // split at the point of their curve nearest their middle, on the chain that separates the
 // same two regions (and, with curveRecovery, the curve recovery's callbacks).
+// The refinement's minimumEdgeLength: its own when set, else the user's MinimumEdgeLength, else
+// the grid's finest leg (the refinement goes no finer than the grid could).
+double finestEdgeLength(const Grid48& grid, const MesherParams& params)
+{
+  if (params.refinement.minimumEdgeLength > 0.0)
+  {
+    return params.refinement.minimumEdgeLength;
+  }
+  return grid.params().minEdgeLength > 0.0
+    ? grid.params().minEdgeLength
+    : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
+}
+
 void refineCompressed(CompressionResult& compressed,
   const Model& model,
   const DistanceField& field,
@@ -485,14 +498,7 @@ void refineCompressed(CompressionResult& compressed,
       compressed, rails, scratch, onCurveTolerance, [&](int t) { return wrong[t] != 0; });
   }
   RefinementParams rp = params.refinement;
-  if (!(rp.minimumEdgeLength > 0.0))
-  {
-    // The user's MinimumEdgeLength, else the grid's finest leg: the refinement goes no
-    // finer than the grid could.
-    rp.minimumEdgeLength = grid.params().minEdgeLength > 0.0
-      ? grid.params().minEdgeLength
-      : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
-  }
+  rp.minimumEdgeLength = finestEdgeLength(grid, params);
   // The user's MaximumEdgeLength bounds the mesh's edges, not only the grid's.
   rp.maximumEdgeLength = grid.params().maxEdgeLength;
   if (params.keepSharpCorners && params.curveRecovery)
@@ -954,6 +960,7 @@ MesherResult triangulate(const RawPolylines& input,
 
   const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.15));
   const TriangleMesh mesh = grid.extract();
+  result.summary.finestEdgeLength = finestEdgeLength(grid, params);
   stage("grid");
 
   const Classification classification =

@@ -127,6 +127,11 @@ struct MesherResult
     double maxBoundaryVertexDistance = 0.0;
     /// Largest |mesh area - model area| / model area over the regions.
     double maxRegionAreaError = 0.0;
+    /// The finest edge length the mesh aims at (model units): the refinement's
+    /// minimumEdgeLength when set, else grid.minEdgeLength (the user's MinimumEdgeLength), else
+    /// the grid's finest leg at its junction level. Regions narrower than this cannot be
+    /// represented: there the boundary may lie farther than half an edge from its curve.
+    double finestEdgeLength = 0.0;
     int iterations = 0; ///< simulation steps
     /// Edges of the approximated boundary split onto their curve by the boundary refinement.
     std::size_t boundarySplits = 0;

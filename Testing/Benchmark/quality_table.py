@@ -7,8 +7,13 @@ For every model it meshes with the default settings (automatic levels) and, for 
 three models, at the MaxLevel whose triangle count is nearest the paper's; then prints a
 Markdown table of what meshcheck.py recomputes from the geometry alone, plus one figure of
 its own: the boundary deviation over the *local* edge length (issue 4's "at most one local
-edge length"): the same two-way samples as meshcheck's Hausdorff distance, each distance
-divided by the mean edge length of the mesh triangle nearest to the sample (by centroid).
+edge length", issue 5's "within half the local edge length ... both ways"): points every
+eighth of a mesh boundary edge and every half of the finest edge length along the input
+curves (the tool's `finest_edge_length`), each one's exact distance to the other side's
+segments divided by the mean edge length of the mesh triangle nearest to it (by centroid).
+It is given twice: over all points, and without the curve points inside a region narrower
+than the finest edge length (issue 5's exemption; `--exempt-width` scales that width): the
+thinner region beside such a point, measured along the curve's normal both ways.
 With `--models FILE_OR_DIR ...` it meshes those models instead (every .vtp of a folder, e.g.
 the output of random_faulted_sections.py), one row each (a failed run or check is a row with
 its error), and prints the counts issue 5 asks about under the table.
@@ -54,18 +59,76 @@ def run(args, name, extra, model=None):
     tag = name + ("_L%s" % extra[1] if extra else "")
     vtu = os.path.join(args.out, tag + ".vtu")
     start = time.perf_counter()
-    subprocess.run([args.tool, model, vtu] + options, check=True, capture_output=True)
+    tool_out = subprocess.run([args.tool, model, vtu] + options, check=True,
+                              capture_output=True, text=True).stdout
     seconds = time.perf_counter() - start
     out = subprocess.run(["/usr/bin/python3", args.meshcheck, model, vtu,
                           "--json", os.path.join(args.out, tag + ".json")],
                          check=True, capture_output=True, text=True).stdout
     m = json.loads(out[out.index("{"):])
-    m["deviation_over_local_edge"] = local_deviation(args.checker, model, vtu)
+    finest = json.loads(tool_out)["finest_edge_length"]
+    m["deviation_over_local_edge"], m["deviation_not_exempt"] = \
+        local_deviation(args.checker, model, vtu, finest, args.exempt_width)
     return tag, m, seconds
 
 
-def local_deviation(mc, model_path, mesh_path):
-    """Largest two-way boundary distance over the local edge length (see the module doc)."""
+def sample_with_owner(P, Q, step):
+    """Points along the segments PQ at most `step` apart, and the segment of each."""
+    n = np.maximum(1, np.ceil(np.linalg.norm(Q - P, axis=1) / step).astype(int))
+    owner = np.repeat(np.arange(len(P)), n + 1)
+    t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in n])[:, None]
+    return P[owner] + t * (Q[owner] - P[owner]), owner
+
+
+def exact_distances(points, A, B, step, todo):
+    """Distances from `points` to the nearest of the segments AB: within step / 2 for all
+    points (through samples `step` apart), exact for the points where `todo` is true (the
+    segments with a sample within the approximate distance + step / 2 hold the nearest)."""
+    samples, owner = sample_with_owner(A, B, step)
+    tree = cKDTree(samples)
+    d, _ = tree.query(points)
+    for i in np.nonzero(todo(d))[0]:
+        segs = np.unique(owner[tree.query_ball_point(points[i], d[i] + 0.5 * step * 1.001)])
+        a, ab = A[segs], B[segs] - A[segs]
+        t = np.clip(((points[i] - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
+        d[i] = min(d[i], float(np.linalg.norm(a + t[:, None] * ab - points[i], axis=1).min()))
+    return d
+
+
+def region_width(x, seg, P, Q):
+    """Width of the thinner of the two regions a curve point x on segment `seg` bounds: the
+    distance along the segment's normal, either way, to the nearest other model segment. At a
+    segment's end (a corner's apex) it is measured a hair inside the segment: 0 at a sharp
+    corner's apex, as just beside it."""
+    x = x + 1e-4 * (0.5 * (P[seg] + Q[seg]) - x)
+    scale = 1.0 + np.abs(x).max()
+    # The segment itself, and its twin in the other region's ring (the Loops form).
+    same = (np.all(P == P[seg], axis=1) & np.all(Q == Q[seg], axis=1)) | \
+        (np.all(P == Q[seg], axis=1) & np.all(Q == P[seg], axis=1))
+    u = Q[seg] - P[seg]
+    u = u / max(np.linalg.norm(u), 1e-300)
+    width = np.inf
+    for n in (np.array([-u[1], u[0]]), np.array([u[1], -u[0]])):
+        # x + s n = P + r (Q - P): solve for s > 0, r in [0, 1] over all segments.
+        e = Q - P
+        den = n[0] * e[:, 1] - n[1] * e[:, 0]
+        w = P - x
+        ok = np.abs(den) > 1e-300
+        s = np.where(ok, (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / np.where(ok, den, 1), np.inf)
+        r = np.where(ok, (w[:, 0] * n[1] - w[:, 1] * n[0]) / np.where(ok, den, 1), -1)
+        hit = ok & (r >= 0) & (r <= 1) & (s > 1e-9 * scale)
+        hit[same] = False
+        if hit.any():
+            width = min(width, float(s[hit].min()))
+    return width
+
+
+def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
+    """Largest two-way boundary distance over the local edge length (see the module doc):
+    (over all samples, over those not exempt). A curve sample is exempt when the thinner
+    region beside it is narrower than `finest` (the tool's finest edge length) along the
+    curve's normal: issue 5's "except inside a region narrower than the finest edge length"
+    (`exempt_width` finest edges: 1 for the issue's bound)."""
     model = mc.read(model_path)
     pts, tris, reg, _ = mc.mesh_arrays(mc.read(mesh_path), "RegionId")
     e, key, owner = mc.edges_of(tris)
@@ -74,25 +137,33 @@ def local_deviation(mc, model_path, mesh_path):
         faces.setdefault(k, []).append(owner[i])
     bedges = np.array([k for k, f in faces.items() if len(f) == 1 or reg[f[0]] != reg[f[1]]])
     if len(bedges) == 0:
-        return float("nan")
-    h = float(np.median(np.linalg.norm(pts[bedges[:, 0]] - pts[bedges[:, 1]], axis=1)))
+        return float("nan"), float("nan")
     curves = mc.model_curves(model)
-    p = np.concatenate([c[:-1] for c in curves if len(c) > 1])
-    q = np.concatenate([c[1:] for c in curves if len(c) > 1])
-    step = h / 4.0
-    s_in = mc.sample_segments(p, q, step)
-    s_mesh = mc.sample_segments(pts[bedges[:, 0]], pts[bedges[:, 1]], step)
-    d1, _ = cKDTree(s_in).query(s_mesh)
-    d2, _ = cKDTree(s_mesh).query(s_in)
+    P = np.concatenate([c[:-1] for c in curves if len(c) > 1])
+    Q = np.concatenate([c[1:] for c in curves if len(c) > 1])
+    keep = np.linalg.norm(Q - P, axis=1) > 0
+    P, Q = P[keep], Q[keep]
+    A, B = pts[bedges[:, 0]], pts[bedges[:, 1]]
     tri_pts = pts[tris]
     local = np.mean([np.linalg.norm(tri_pts[:, i] - tri_pts[:, (i + 1) % 3], axis=1)
                      for i in range(3)], axis=0)
     centroids = cKDTree(tri_pts.mean(axis=1))
-    worst = 0.0
-    for d, samples in ((d1, s_mesh), (d2, s_in)):
-        _, nearest = centroids.query(samples)
-        worst = max(worst, float((d / local[nearest]).max()))
-    return worst
+    step = 0.5 * finest
+    # Mesh -> curves: eight samples per boundary edge; curves -> mesh: every half finest edge.
+    s_mesh = (A[:, None, :] + np.linspace(0, 1, 9)[None, :, None] * (B - A)[:, None, :]).reshape(-1, 2)
+    s_in, s_seg = sample_with_owner(P, Q, step)
+    worst, worst_kept = 0.0, 0.0
+    for samples, (a, b), curve in ((s_mesh, (P, Q), False), (s_in, (A, B), True)):
+        h = local[centroids.query(samples)[1]]
+        d = exact_distances(samples, a, b, 0.5 * step, lambda approx: approx > 0.4 * h)
+        ratio = d / h
+        worst = max(worst, float(ratio.max()))
+        exempt = np.zeros(len(samples), dtype=bool)
+        if curve:
+            for i in np.nonzero(ratio > 0.5)[0]:
+                exempt[i] = region_width(samples[i], s_seg[i], P, Q) < exempt_width * finest
+        worst_kept = max(worst_kept, float(ratio[~exempt].max()))
+    return worst, worst_kept
 
 
 def main():
@@ -104,6 +175,9 @@ def main():
                     help="extra options for the tool on every run, e.g. \"--no-curve-recovery\"")
     ap.add_argument("--models", nargs="+", default=None,
                     help="mesh these .vtp files (or every .vtp of these folders) instead")
+    ap.add_argument("--exempt-width", type=float, default=1.0,
+                    help="curve points inside a region narrower than this many finest edge"
+                         " lengths are exempt from the deviation bound (issue 5: 1)")
     args = ap.parse_args()
     spec = importlib.util.spec_from_file_location("meshcheck", args.meshcheck)
     args.checker = importlib.util.module_from_spec(spec)
@@ -127,19 +201,20 @@ def main():
             rows.append(run(args, name, []))
             if name in PAPER:
                 rows.append(run(args, name, ["--max-level", str(nearest_level(args, name))]))
-    print("| model | triangles | min angle | max angle | % triangles min angle >= 30 |"
-          " boundary Hausdorff / h | deviation / local edge | worst region area error |"
-          " topology mismatches | seconds |")
+    print("| model | triangles | min angle | max angle | %% triangles min angle >= 30 |"
+          " boundary Hausdorff / h | deviation / local edge (all; outside regions narrower"
+          " than %g finest edges) | worst region area error | topology mismatches | seconds |"
+          % args.exempt_width)
     print("|---|---|---|---|---|---|---|---|---|---|")
     for tag, m, seconds in rows:
         if isinstance(m, str):
             print("| %s | failed: %s |  |  |  |  |  |  |  |  |" % (tag, m.replace("|", "/")))
             continue
-        print("| %s | %d | %.2f | %.1f | %.1f | %.2f | %.2f | %.2f%% | %d | %.2f |"
+        print("| %s | %d | %.2f | %.1f | %.1f | %.2f | %.2f; %.2f | %.2f%% | %d | %.2f |"
               % (tag, m["triangles"], m["min_angle"], m["max_angle"],
                  m["pct_tris_minangle_ge_30"], m["hausdorff_over_h"],
-                 m["deviation_over_local_edge"], m["max_region_area_error_pct"],
-                 m["topology_mismatches"], seconds))
+                 m["deviation_over_local_edge"], m["deviation_not_exempt"],
+                 m["max_region_area_error_pct"], m["topology_mismatches"], seconds))
     if args.models:
         ok = [m for _, m, _ in rows if not isinstance(m, str)]
         invalid = sum(m["inverted"] + m["degenerate"] + m["folded_edges"] +
@@ -147,7 +222,8 @@ def main():
         angles = sorted(m["min_angle"] for m in ok)
         print("\n%d models, %d failed; min angle >= 25: %d, >= 30: %d (smallest %.2f, median %.2f);"
               " max angle <= 130: %d; area error <= 0.5%%: %d (median %.3f%%, largest %.3f%%);"
-              " topology mismatches %d; invalid triangles %d"
+              " topology mismatches %d; invalid triangles %d; deviation <= 0.5 local edge"
+              " outside regions narrower than %g finest edges: %d (largest %.2f)"
               % (len(rows), len(rows) - len(ok), sum(a >= 25 for a in angles),
                  sum(a >= 30 for a in angles), angles[0] if angles else float("nan"),
                  float(np.median(angles)) if angles else float("nan"),
@@ -155,7 +231,9 @@ def main():
                  sum(m["max_region_area_error_pct"] <= 0.5 for m in ok),
                  float(np.median([m["max_region_area_error_pct"] for m in ok])) if ok else 0.0,
                  max([m["max_region_area_error_pct"] for m in ok] or [0.0]),
-                 sum(m["topology_mismatches"] for m in ok), invalid))
+                 sum(m["topology_mismatches"] for m in ok), invalid, args.exempt_width,
+                 sum(m["deviation_not_exempt"] <= 0.5 for m in ok),
+                 max([m["deviation_not_exempt"] for m in ok] or [0.0])))
 
 
 if __name__ == "__main__":

@@ -85,6 +85,7 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
          "PercentAngles30To60",
          "PercentTriangles30To60",
          "MaxBoundaryDeviation",
+         "FinestEdgeLength",
          "Iterations",
          "SecondsTotal",
          "BoundarySplits",
@@ -291,6 +292,14 @@ TEST(PhysicalCompressionTriangulatorTest, edge_lengths_in_model_units_bound_the_
     const vtkIdType automatic = mesher->GetOutput()->GetNumberOfCells();
     double finest[2];
     mesher->GetOutput()->GetCellData()->GetArray("Level")->GetRange(finest);
+    // Automatic: the finest edge length the field data reports is the leg of a grid level at
+    // least as fine as the mesh's finest triangle (the junctions' level).
+    vtkDataArray* finestEdge = mesher->GetOutput()->GetFieldData()->GetArray("FinestEdgeLength");
+    ASSERT_NE(finestEdge, nullptr);
+    const double leg = finestEdge->GetTuple1(0) * std::sqrt(2.0);
+    const double legLevel = -2.0 * std::log2(leg / side);
+    EXPECT_NEAR(legLevel, std::round(legLevel), 1e-6) << name;
+    EXPECT_LE(leg, hypotenuse(finest[1]) * (1 + 1e-9)) << name;
     for (const double length : lengths)
     {
       mesher->SetMaximumEdgeLength(length);
@@ -323,6 +332,7 @@ TEST(PhysicalCompressionTriangulatorTest, edge_lengths_in_model_units_bound_the_
     {
       ASSERT_GE(hypotenuse(level->GetTuple1(c)), minimum * (1 - 1e-9)) << name << " " << c;
     }
+    EXPECT_EQ(mesh->GetFieldData()->GetArray("FinestEdgeLength")->GetTuple1(0), minimum) << name;
     mesher->SetMinimumEdgeLength(0.0);
   }
 }

@@ -141,6 +141,8 @@ class TriangulationTest(unittest.TestCase):
         out = dsa.WrapDataObject(servermanager.Fetch(mesh))
         self.assertLessEqual(np.asarray(out.CellData["Level"]).max(), 12)
         self.assertGreater(out.GetNumberOfCells(), 0)
+        # The field data says the finest edge length the mesh aimed at: the user's.
+        self.assertEqual(field(out, "FinestEdgeLength"), 15.0)
 
     def test_maximum_edge_length_bounds_every_mesh_edge(self):
         # On the salt dome at 206.25 the compression stretches edges to 1.3 times that; the

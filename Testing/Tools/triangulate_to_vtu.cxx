@@ -242,7 +242,8 @@ int main(int argc, char** argv)
     std::printf("{\n \"triangles\": %zu, \"vertices\": %zu,\n \"min_angle\": %.4f, "
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
                 " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
-                " \"max_region_area_error_pct\": %.4f, \"iterations\": %d, \"seconds\": %.4f,\n"
+                " \"max_region_area_error_pct\": %.4f, \"finest_edge_length\": %.6g,\n"
+                " \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
                 " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
                 " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n",
@@ -255,6 +256,7 @@ int main(int argc, char** argv)
       s.maxBoundaryDeviation,
       s.maxBoundaryVertexDistance,
       100.0 * s.maxRegionAreaError,
+      s.finestEdgeLength,
       s.iterations,
       s.totalSeconds,
       s.boundarySplits,
