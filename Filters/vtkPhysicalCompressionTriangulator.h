@@ -156,8 +156,9 @@ public:
   ///@{
   /**
    * Degrees: a boundary point whose angle (180 = straight) is below this is a feature; a
-   * vertex sliding along the boundary stops there, so sharp corners are kept. Default 140;
-   * range [0, 180] (0: no features).
+   * vertex sliding along the boundary stops there (and stays exactly on it); with
+   * CurveRecovery, features not sharper than MinimumAngle that a probed triangle holds are
+   * inserted (a corner the compression cut). Default 140; range [0, 180] (0: no features).
    */
   vtkSetMacro(FeatureAngle, double);
   vtkGetMacro(FeatureAngle, double);
@@ -224,8 +225,10 @@ public:
    * Beyond the paper, with the Delaunay refinement (MinimumAngle > 0): curve recovery first.
    * Every triangle takes the region of its centroid; where an input curve runs through a
    * triangle (a layer or island the compression lost, a boundary cut short) and no layer
-   * thinner than twice the recovery margin lies beside it, a curve point is inserted and the
-   * triangles around it take the region of their centroid, never putting a region boundary
+   * thinner than twice the recovery margin lies beside it, a curve point is inserted (a model
+   * corner between MinimumAngle and FeatureAngle when one lies inside: a lost peninsula's tip
+   * comes back with its apex) and the triangles around it take the region of their centroid,
+   * never putting a region boundary
    * through a vertex off the curves; the refinement then runs twice, and region corners
    * sharper than MinimumAngle in small triangles (where a recovered layer ends) go to a
    * neighbour. A region boundary edge that cuts off more than 0.05% of the smaller of its

@@ -12,7 +12,8 @@
 //                       MinimumAngle, boundary edges split at the point of their curve
 //                       nearest their middle, with the curve recovery's callbacks (region
 //                       at a point by the nearest curve's side, curve points that keep
-//                       layers thinner than two margins out) and the smoothing's (slides);
+//                       layers thinner than two margins out, model corners first) and the
+//                       smoothing's (slides);
 //                       their curve queries go through a SegmentGrid (StripTree.h) of cells
 //                       half the median longest edge wide, the strip tree where it cannot tell
 //   output              exterior triangles dropped, points compacted, quality per triangle,
@@ -45,6 +46,7 @@ namespace strata
 namespace
 {
 using Clock = std::chrono::steady_clock;
+constexpr double kPi = 3.14159265358979323846;
 // A region whose triangles cover less than this share of its model area is reported as
 // unresolved (too thin or too small for the finest triangles).
 constexpr double kUnresolvedFraction = 0.5;
@@ -57,7 +59,6 @@ constexpr double kAreaWarning = 0.1;
 // direction to the previous point's.
 double ringAngle(const Ring& ring, std::size_t i)
 {
-  constexpr double kPi = 3.14159265358979323846;
   const std::size_t n = ring.points.size();
   const Vec2 p = ring.points[i];
   const Vec2 next = ring.points[(i + 1) % n] - p, prev = ring.points[(i + n - 1) % n] - p;
@@ -120,7 +121,6 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
   double featureAngle,
   double minimumEdgeLength)
 {
-  constexpr double kPi = 3.14159265358979323846;
   std::vector<std::uint8_t> junction(model.nodes.size(), 0);
   for (int n : model.junctions)
   {
@@ -235,8 +235,9 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   return moved;
 }
 
-constexpr double kLayerProbe = 2.0; // curve recovery: layer probes, in recovery margins
-constexpr double kStretch = 8.0;    // curve fidelity: curve stretches up to this many edges long
+constexpr double kLayerProbe = 2.0;  // curve recovery: layer probes, in recovery margins
+constexpr double kStretch = 8.0;     // curve fidelity: curve stretches up to this many edges long
+constexpr double kCornerDepth = 0.5; // curve recovery: a corner inserted this deep in inradii
 // The curve recovery's retry (see triangulate()): when a region's area is off by more than
 // this, or a triangle is below MinimumAngle - kRetryAngleSlack degrees, with this margin scale.
 constexpr double kRetryAreaError = 0.0005;
@@ -594,7 +595,37 @@ void refineCompressed(CompressionResult& compressed,
       }
       return found && stretchDeviation(c, first, last, a, b, area, at);
     };
-    rp.curvePoint = [&](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+    // The model's corners: chain points sharper than FeatureAngle (the compression's stop
+    // points) but not sharper than MinimumAngle (those end where their layer is a finest edge
+    // thick), by x. A corner inside a probed triangle is its first candidate: a peninsula's
+    // or a bay's tip the compression lost comes back with its apex, not only its sides.
+    struct Corner
+    {
+      Vec2 x;
+      int chain;
+      Vec2 wedge; // unit vector along the corner's bisector
+    };
+    std::vector<Corner> corners;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
+      const std::size_t n = c.points.size();
+      for (std::size_t i = c.closed ? 0 : 1; n >= 3 && i < (c.closed ? n : n - 1); ++i)
+      {
+        const Vec2 x = c.points[i], u = c.points[(i + n - 1) % n] - x,
+                   v = c.points[(i + 1) % n] - x;
+        const double angle = std::atan2(std::fabs(cross(u, v)), dot(u, v)) * 180.0 / kPi;
+        const Vec2 w = (1.0 / norm(u)) * u + (1.0 / norm(v)) * v;
+        if (angle < params.compression.featureAngle && angle >= rp.minimumAngle && norm(w) > 0.0)
+        {
+          corners.push_back({ x, static_cast<int>(ci), (1.0 / norm(w)) * w });
+        }
+      }
+    }
+    std::sort(corners.begin(),
+      corners.end(),
+      [](const Corner& p, const Corner& q) { return p.x.x < q.x.x; });
+    rp.curvePoint = [&, corners](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
       // Of the curve points nearest the centroid and nearest the midpoints between it and
       // the corners, the one farthest inside, if it lies at least margin = max(2% of the
@@ -619,6 +650,39 @@ void refineCompressed(CompressionResult& compressed,
       {
         return false; // no curve comes into the triangle
       }
+      const auto insideBy = [&](Vec2 x)
+      {
+        double inside = std::numeric_limits<double>::infinity();
+        for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+        {
+          inside = std::min(inside, orient2d(p, q, x) / norm(q - p));
+        }
+        return inside;
+      };
+      // A corner at least half the inradius inside (a corner near a side would leave slivers
+      // the refinement cannot mend on coarse meshes), with the chain's two regions inside and
+      // outside its wedge (no layer thinner than that beside it).
+      const double xmin = std::min({ a.x, b.x, c.x }), xmax = std::max({ a.x, b.x, c.x });
+      for (auto it = std::lower_bound(corners.begin(),
+             corners.end(),
+             xmin,
+             [](const Corner&k, double x) { return k.x.x < x; });
+           it != corners.end() && it->x.x <= xmax;
+           ++it)
+      {
+        if (!(insideBy(it->x) > std::max(margin, kCornerDepth * inradius)))
+        {
+          continue;
+        }
+        const BoundaryRails::Chain& chain = rails.chain(it->chain);
+        const Vec2 probe = kLayerProbe * margin * it->wedge;
+        const int in = regionOf(it->x + probe), out = regionOf(it->x - probe);
+        if ((in == chain.left && out == chain.right) || (in == chain.right && out == chain.left))
+        {
+          at = it->x;
+          return true;
+        }
+      }
       // The candidates by how far inside they lie; the first with no thin layer beside it.
       std::array<std::pair<double, BoundaryRails::Location>, 4> candidates;
       int n = 0;
@@ -629,12 +693,7 @@ void refineCompressed(CompressionResult& compressed,
         {
           continue; // its nearest curve point lies outside the triangle
         }
-        const Vec2 x = rails.position(l);
-        double inside = std::numeric_limits<double>::infinity();
-        for (const auto& [p, q] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
-        {
-          inside = std::min(inside, orient2d(p, q, x) / norm(q - p));
-        }
+        const double inside = insideBy(rails.position(l));
         if (!(inside > margin))
         {
           continue;

@@ -201,10 +201,12 @@ def main():
             rows.append(run(args, name, []))
             if name in PAPER:
                 rows.append(run(args, name, ["--max-level", str(nearest_level(args, name))]))
+    exempt = "the finest edge" if args.exempt_width == 1.0 else \
+        "%g finest edges" % args.exempt_width
     print("| model | triangles | min angle | max angle | %% triangles min angle >= 30 |"
           " boundary Hausdorff / h | deviation / local edge (all; outside regions narrower"
-          " than %g finest edges) | worst region area error | topology mismatches | seconds |"
-          % args.exempt_width)
+          " than %s) | worst region area error | topology mismatches | seconds |"
+          % exempt)
     print("|---|---|---|---|---|---|---|---|---|---|")
     for tag, m, seconds in rows:
         if isinstance(m, str):
@@ -223,7 +225,7 @@ def main():
         print("\n%d models, %d failed; min angle >= 25: %d, >= 30: %d (smallest %.2f, median %.2f);"
               " max angle <= 130: %d; area error <= 0.5%%: %d (median %.3f%%, largest %.3f%%);"
               " topology mismatches %d; invalid triangles %d; deviation <= 0.5 local edge"
-              " outside regions narrower than %g finest edges: %d (largest %.2f)"
+              " outside regions narrower than %s: %d (largest %.2f)"
               % (len(rows), len(rows) - len(ok), sum(a >= 25 for a in angles),
                  sum(a >= 30 for a in angles), angles[0] if angles else float("nan"),
                  float(np.median(angles)) if angles else float("nan"),
@@ -231,7 +233,7 @@ def main():
                  sum(m["max_region_area_error_pct"] <= 0.5 for m in ok),
                  float(np.median([m["max_region_area_error_pct"] for m in ok])) if ok else 0.0,
                  max([m["max_region_area_error_pct"] for m in ok] or [0.0]),
-                 sum(m["topology_mismatches"] for m in ok), invalid, args.exempt_width,
+                 sum(m["topology_mismatches"] for m in ok), invalid, exempt,
                  sum(m["deviation_not_exempt"] <= 0.5 for m in ok),
                  max([m["deviation_not_exempt"] for m in ok] or [0.0])))
 

@@ -520,6 +520,43 @@ TEST(MesherTest, CurveRecoveryKeepsMoreOfThinLayersWithBoundaryVerticesOnCurves)
   }
 }
 
+// A square with a peninsula 300 long whose tip is a 40-degree corner, on a coarse grid (level 6,
+// 7 near the model's vertices) with the finest edge of the junction level: the compression
+// leaves the tip 23 short of its apex and two of its base corners 5-7 off. The curve recovery
+// takes a model corner inside a probed triangle as its point first, so every corner of the
+// model (between MinimumAngle and FeatureAngle) is a mesh vertex, with MinimumAngle kept.
+TEST(MesherTest, CurveRecoveryBringsBackTheCornersTheCompressionLost)
+{
+  const double half = 300.0 * std::tan(20.0 * M_PI / 180.0);
+  const std::vector<strata::Vec2> corners = { { 0, 0 },
+    { 1000, 0 },
+    { 1000, 500 - half },
+    { 1300, 500 },
+    { 1000, 500 + half },
+    { 1000, 1000 },
+    { 0, 1000 } };
+  strata::RawPolylines raw;
+  raw.points = corners;
+  raw.offsets = { 0, 8 };
+  raw.connectivity = { 0, 1, 2, 3, 4, 5, 6, 0 };
+  raw.regionId = { 0 };
+  strata::MesherParams p;
+  p.grid.maxLevel = 6;
+  p.grid.localMaxLevel = 7;
+  const strata::MesherResult r = strata::triangulate(raw, p);
+  for (const strata::Vec2& c : corners)
+  {
+    double nearest = HUGE_VAL;
+    for (const strata::Vec2& x : r.points)
+    {
+      nearest = std::min(nearest, strata::norm(x + r.origin - c));
+    }
+    EXPECT_LE(nearest, 1e-9 * 1300.0) << "corner (" << c.x << ", " << c.y << ")";
+  }
+  EXPECT_GE(r.summary.minAngle, p.refinement.minimumAngle - 1e-6);
+  EXPECT_LE(r.summary.maxRegionAreaError, 1e-4);
+}
+
 // A region kept (half of its area or more) whose triangles' area is more than 10% off its
 // model area is named in a warning with the difference: without the curve recovery, the
 // countries' Liechtenstein (7) and Monaco (8); none on the salt dome.
