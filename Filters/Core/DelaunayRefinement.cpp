@@ -1405,9 +1405,14 @@ std::size_t Refiner::dissolveCorners()
   const auto countTriangles = [&]()
   {
     count.clear();
+    auto it = count.end(); // neighbouring triangles mostly share a region: one lookup per run
     for (int r : this->M.region)
     {
-      ++count[r];
+      if (it == count.end() || it->first != r)
+      {
+        it = count.try_emplace(r, 0).first;
+      }
+      ++it->second;
     }
   };
   countTriangles();
@@ -1426,10 +1431,16 @@ std::size_t Refiner::dissolveCorners()
   const auto sumAreas = [&]()
   {
     regionTwice.clear();
+    auto it = regionTwice.end();
     for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
     {
       const auto& tri = this->M.triangles[t];
-      regionTwice[this->M.region[t]] += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+      const int r = this->M.region[t];
+      if (it == regionTwice.end() || it->first != r)
+      {
+        it = regionTwice.try_emplace(r, 0.0).first;
+      }
+      it->second += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
     }
   };
   sumAreas();
@@ -1449,6 +1460,10 @@ std::size_t Refiner::dissolveCorners()
     {
       this->poll();
       const int old = this->M.region[t];
+      if (old < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle)
+      {
+        continue; // no sharp corner (most triangles)
+      }
       const auto& tri = this->M.triangles[t];
       const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
       // A speck: no neighbour of its own region and an inradius below minimumEdgeLength, or
@@ -1465,9 +1480,7 @@ std::size_t Refiner::dissolveCorners()
         (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
       const bool longer =
         !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
-      if (old < 0 || !this->Live[t] || count[old] <= 1 ||
-        (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
-        this->cornerAngle(t) >= this->P.minimumAngle)
+      if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])))
       {
         continue;
       }
@@ -1640,10 +1653,9 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
     const int region = this->M.region[t];
     const std::array<int, 3> tri = this->M.triangles[t];
     const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
-    if (region < 0 || !this->Live[t] ||
+    if (region < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle ||
       std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
-      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region) ||
-      this->cornerAngle(t) >= this->P.minimumAngle)
+      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region))
     {
       continue; // 2c gives it away whole, or it has no sharp corner
     }
