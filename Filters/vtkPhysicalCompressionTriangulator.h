@@ -228,8 +228,8 @@ public:
    * thinner than twice the recovery margin lies beside it, a curve point is inserted (a model
    * corner between MinimumAngle and FeatureAngle when one lies inside: a lost peninsula's tip
    * comes back with its apex) and the triangles around it take the region of their centroid,
-   * never putting a region boundary
-   * through a vertex off the curves; the refinement then runs twice, and region corners
+   * never putting a region boundary through a vertex off the curves; the refinement then runs
+   * twice, and region corners
    * sharper than MinimumAngle in small triangles (where a recovered layer ends) go to a
    * neighbour. A region boundary edge that cuts off more than 0.05% of the smaller of its
    * regions' areas from its curve is split at the curve point farthest from it (small

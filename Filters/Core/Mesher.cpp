@@ -330,10 +330,6 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
   return farthest > 0.0;
 }
 
-// The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
-// boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
-// split at the point of their curve nearest their middle, on the chain that separates the
-// same two regions (and, with curveRecovery, the curve recovery's callbacks).
 // The refinement's minimumEdgeLength: its own when set, else the user's MinimumEdgeLength, else
 // the grid's finest leg (the refinement goes no finer than the grid could).
 double finestEdgeLength(const Grid48& grid, const MesherParams& params)
@@ -347,6 +343,10 @@ double finestEdgeLength(const Grid48& grid, const MesherParams& params)
     : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
 }
 
+// The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
+// boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
+// split at the point of their curve nearest their middle, on the chain that separates the
+// same two regions (and, with curveRecovery, the curve recovery's callbacks).
 void refineCompressed(CompressionResult& compressed,
   const Model& model,
   const DistanceField& field,
@@ -627,11 +627,12 @@ void refineCompressed(CompressionResult& compressed,
       [](const Corner& p, const Corner& q) { return p.x.x < q.x.x; });
     rp.curvePoint = [&, corners](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
-      // Of the curve points nearest the centroid and nearest the midpoints between it and
-      // the corners, the one farthest inside, if it lies at least margin = max(2% of the
-      // longest edge, marginScale x the refinement's minimum edge length) from every side, and the
-      // regions 2 margins away on both sides of its curve are that curve's (no layer thinner than
-      // that beside it: a pinch-out's tip is not brought back, its neighbours keep it).
+      // A model corner inside (see below) first; else, of the curve points nearest the
+      // centroid and nearest the midpoints between it and the corners, the one farthest inside, if
+      // it lies at least margin = max(2% of the longest edge, marginScale x the refinement's
+      // minimum edge length) from every side, and the regions 2 margins away on both sides of its
+      // curve are that curve's (no layer thinner than that beside it: a pinch-out's tip is not
+      // brought back, its neighbours keep it).
       const Vec2 g = (1.0 / 3.0) * (a + b + c);
       const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
       const double margin = std::max(marginScale * rp.minimumEdgeLength, 0.02 * longest);
@@ -663,12 +664,11 @@ void refineCompressed(CompressionResult& compressed,
       // the refinement cannot mend on coarse meshes), with the chain's two regions inside and
       // outside its wedge (no layer thinner than that beside it).
       const double xmin = std::min({ a.x, b.x, c.x }), xmax = std::max({ a.x, b.x, c.x });
-      for (auto it = std::lower_bound(corners.begin(),
-             corners.end(),
-             xmin,
-             [](const Corner&k, double x) { return k.x.x < x; });
-           it != corners.end() && it->x.x <= xmax;
-           ++it)
+      const auto first = std::lower_bound(corners.begin(),
+        corners.end(),
+        xmin,
+        [](const Corner& corner, double x) { return corner.x.x < x; });
+      for (auto it = first; it != corners.end() && it->x.x <= xmax; ++it)
       {
         if (!(insideBy(it->x) > std::max(margin, kCornerDepth * inradius)))
         {
