@@ -4,6 +4,7 @@
 #include "CoreTestUtilities.h"
 #include "Errors.h"
 #include "Quality.h"
+#include "StripTree.h"
 #include "VtpAscii.h"
 
 #include <gtest/gtest.h>
@@ -382,35 +383,187 @@ TEST(MesherTest, UnresolvedRegionsAreReportedById)
 
 namespace
 {
+// Issue 5's boundary bound as Testing/Benchmark/quality_table.py measures it: the largest
+// distance from points every eighth of a mesh boundary edge to the model's curves, and from
+// points every half finest edge along the curves to the mesh boundary, each over the mean edge
+// length of the triangle whose centroid is nearest the point; curve points where the thinner
+// region beside the curve, along its normal, is narrower than the finest edge are left out
+// (the issue's exemption).
+double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::MesherResult& r)
+{
+  const double finest = r.summary.finestEdgeLength;
+  std::vector<Vec2> ma, mb, ba, bb;
+  const strata::BoundaryRails rails(model, 0.0);
+  for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+  {
+    const auto& chain = rails.chain(static_cast<int>(ci));
+    for (std::size_t i = 0; i < chain.numberOfSegments(); ++i)
+    {
+      ma.push_back(chain.points[i]);
+      mb.push_back(chain.points[(i + 1) % chain.points.size()]);
+    }
+  }
+  for (const auto& curve : r.boundary)
+  {
+    for (std::size_t i = 0; i + 1 < curve.points.size(); ++i)
+    {
+      ba.push_back(curve.points[i]);
+      bb.push_back(curve.points[i + 1]);
+    }
+  }
+  const strata::StripTree modelTree(ma, mb), meshTree(ba, bb);
+  strata::StripTreeScratch scratch;
+  // Triangles' centroids in square cells a median edge wide, for the nearest one.
+  std::vector<Vec2> centroid(r.triangles.size());
+  std::vector<double> local(r.triangles.size()), edges;
+  Vec2 lo = r.points[0], hi = r.points[0];
+  for (const Vec2& x : r.points)
+  {
+    lo = { std::min(lo.x, x.x), std::min(lo.y, x.y) };
+    hi = { std::max(hi.x, x.x), std::max(hi.y, x.y) };
+  }
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const auto& tri = r.triangles[t];
+    const Vec2 a = r.points[tri[0]], b = r.points[tri[1]], c = r.points[tri[2]];
+    centroid[t] = (1.0 / 3.0) * (a + b + c);
+    local[t] = (strata::norm(b - a) + strata::norm(c - b) + strata::norm(a - c)) / 3.0;
+    edges.push_back(local[t]);
+  }
+  std::nth_element(edges.begin(), edges.begin() + edges.size() / 2, edges.end());
+  const double cell = std::max(edges[edges.size() / 2], 1e-12 * (hi.x - lo.x + hi.y - lo.y));
+  const int nx = static_cast<int>((hi.x - lo.x) / cell) + 1,
+            ny = static_cast<int>((hi.y - lo.y) / cell) + 1;
+  std::vector<std::vector<int>> cells(static_cast<std::size_t>(nx) * ny);
+  const auto cellOf = [&](Vec2 p, int& i, int& j)
+  {
+    i = std::clamp(static_cast<int>((p.x - lo.x) / cell), 0, nx - 1);
+    j = std::clamp(static_cast<int>((p.y - lo.y) / cell), 0, ny - 1);
+  };
+  for (std::size_t t = 0; t < centroid.size(); ++t)
+  {
+    int i = 0, j = 0;
+    cellOf(centroid[t], i, j);
+    cells[static_cast<std::size_t>(j) * nx + i].push_back(static_cast<int>(t));
+  }
+  const auto localEdge = [&](Vec2 p)
+  {
+    int i0 = 0, j0 = 0, best = -1;
+    cellOf(p, i0, j0);
+    double best2 = HUGE_VAL;
+    for (int ring = 0; ring < std::max(nx, ny); ++ring)
+    {
+      for (int j = j0 - ring; j <= j0 + ring; ++j)
+      {
+        for (int i = i0 - ring; i <= i0 + ring; ++i)
+        {
+          if (i < 0 || j < 0 || i >= nx || j >= ny ||
+            (std::abs(i - i0) != ring && std::abs(j - j0) != ring))
+          {
+            continue;
+          }
+          for (int t : cells[static_cast<std::size_t>(j) * nx + i])
+          {
+            if (strata::norm2(centroid[t] - p) < best2)
+            {
+              best2 = strata::norm2(centroid[t] - p);
+              best = t;
+            }
+          }
+        }
+      }
+      if (best >= 0 && std::sqrt(best2) <= ring * cell)
+      {
+        break; // no cell farther out holds a nearer centroid
+      }
+    }
+    return local[best];
+  };
+  // Width of the thinner region beside curve segment s at x (a hair inside the segment).
+  const auto regionWidth = [&](Vec2 x, std::size_t s)
+  {
+    x = x + 1e-4 * (0.5 * (ma[s] + mb[s]) - x);
+    const Vec2 u = (1.0 / strata::norm(mb[s] - ma[s])) * (mb[s] - ma[s]);
+    double width = HUGE_VAL;
+    for (const Vec2 n : { Vec2{ -u.y, u.x }, Vec2{ u.y, -u.x } })
+    {
+      for (std::size_t k = 0; k < ma.size(); ++k)
+      {
+        const Vec2 e = mb[k] - ma[k], w = ma[k] - x;
+        const double den = strata::cross(n, e);
+        if (k == s || den == 0.0)
+        {
+          continue;
+        }
+        const double along = strata::cross(w, e) / den, at = strata::cross(w, n) / den;
+        if (at >= 0.0 && at <= 1.0 && along > 1e-9 * (1.0 + std::fabs(x.x) + std::fabs(x.y)))
+        {
+          width = std::min(width, along);
+        }
+      }
+    }
+    return width;
+  };
+  double worst = 0.0;
+  for (std::size_t s = 0; s < ba.size(); ++s)
+  {
+    for (int k = 0; k <= 8; ++k)
+    {
+      const Vec2 x = ba[s] + (k / 8.0) * (bb[s] - ba[s]);
+      worst = std::max(worst, std::sqrt(modelTree.nearest(x, scratch).distance2) / localEdge(x));
+    }
+  }
+  for (std::size_t s = 0; s < ma.size(); ++s)
+  {
+    const int n =
+      std::max(1, static_cast<int>(std::ceil(strata::norm(mb[s] - ma[s]) / (0.5 * finest))));
+    for (int k = 0; k <= n; ++k)
+    {
+      const Vec2 x = ma[s] + (static_cast<double>(k) / n) * (mb[s] - ma[s]);
+      const double ratio = std::sqrt(meshTree.nearest(x, scratch).distance2) / localEdge(x);
+      if (ratio > std::max(worst, 0.5) && regionWidth(x, s) < finest)
+      {
+        continue; // inside a region narrower than the finest edge
+      }
+      worst = std::max(worst, ratio);
+    }
+  }
+  return worst;
+}
+
 // Default settings (automatic levels) on every model: issue 5's bounds where they hold
-// (smallest angle >= 25, largest <= 130, >= 95% of triangles with smallest angle >= 30; every
-// region's area within 0.5%, on all of them), and where they do not yet, the measured floor as a
-// regression guard (README, "Known limits": Marmousi's one-pixel bands meeting at 3.8-degree
-// junctions).
+// (smallest angle >= 25, largest <= 130, >= 95% of triangles with smallest angle >= 30, every
+// region's area within 0.5%: on all of them; the boundary within half the local edge outside
+// regions narrower than the finest edge: on 8 of the 15), and where they do not yet, the
+// measured figure as a regression guard (README, "Known limits").
 struct DefaultCase
 {
   const char* file;
   double minAngle;       // smallest angle at least
   double maxAngle;       // largest angle at most
   double percentAbove30; // percent of triangles whose smallest angle is >= 30, at least
+  double deviation;      // boundaryDeviationOverLocalEdge at most (issue 5: 0.5)
 };
 
+// Where the boundary bound does not hold yet, its guard is the measured figure (README,
+// "Known limits") plus about 10%: layers one to two finest edges thick ending early (the gulf,
+// Marmousi), inlets and peninsulas on coasts meshed coarsely (lakes, countries).
 const DefaultCase kDefaultCases[] = {
-  { "lake_superior_full.vtp", 25, 130, 95 }, // issue 5's bounds
-  { "salt_dome.vtp", 25, 130, 95 },
-  { "guitar.vtp", 25, 130, 95 },
-  { "nested_holes.vtp", 25, 130, 95 },
-  { "touching_loops.vtp", 25, 130, 95 },
-  { "countries_westeurope.vtp", 25, 130, 95 },
-  { "countries_westeurope_loops.vtp", 25, 130, 95 },
-  { "salt_dome_loops.vtp", 25, 130, 95 },
-  { "pinch_out.vtp", 25, 130, 95 },
-  { "lake_superior.vtp", 25, 130, 95 },
-  { "gulf_section.vtp", 25, 130, 95 },
-  { "gulf_section_loops.vtp", 25, 130, 95 },
-  { "thin_layer.vtp", 25, 130, 95 },
-  { "geology_marmousi.vtp", 25, 130, 95 },
-  { "faulted_section.vtp", 25, 130, 95 }, // a 15-degree pinch-out tip in a large triangle
+  { "lake_superior_full.vtp", 25, 130, 95, 0.9 }, // issue 5's bounds (the boundary's: 0.5)
+  { "salt_dome.vtp", 25, 130, 95, 0.5 },
+  { "guitar.vtp", 25, 130, 95, 0.5 },
+  { "nested_holes.vtp", 25, 130, 95, 0.5 },
+  { "touching_loops.vtp", 25, 130, 95, 0.5 },
+  { "countries_westeurope.vtp", 25, 130, 95, 1.25 },
+  { "countries_westeurope_loops.vtp", 25, 130, 95, 1.9 },
+  { "salt_dome_loops.vtp", 25, 130, 95, 0.5 },
+  { "pinch_out.vtp", 25, 130, 95, 0.5 },
+  { "lake_superior.vtp", 25, 130, 95, 1.3 },
+  { "gulf_section.vtp", 25, 130, 95, 0.7 },
+  { "gulf_section_loops.vtp", 25, 130, 95, 0.7 },
+  { "thin_layer.vtp", 25, 130, 95, 0.5 },
+  { "geology_marmousi.vtp", 25, 130, 95, 2.2 },
+  { "faulted_section.vtp", 25, 130, 95, 0.5 }, // a 15-degree pinch-out tip in a large triangle
 };
 
 class DefaultQuality : public ::testing::TestWithParam<DefaultCase>
@@ -424,7 +577,7 @@ std::string defaultCaseName(const ::testing::TestParamInfo<DefaultCase>& info)
 }
 } // namespace
 
-TEST_P(DefaultQuality, AnglesStayWithinTheirBoundsAndBoundaryVerticesOnCurves)
+TEST_P(DefaultQuality, AnglesAreasAndBoundaryStayWithinTheirBounds)
 {
   const DefaultCase c = GetParam();
   const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(c.file));
@@ -446,6 +599,7 @@ TEST_P(DefaultQuality, AnglesStayWithinTheirBoundsAndBoundaryVerticesOnCurves)
   EXPECT_LE(r.summary.maxAngle, c.maxAngle);
   EXPECT_GE(100.0 * above30 / r.triangles.size(), c.percentAbove30);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005); // issue 5's 0.5%, on every model
+  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), c.deviation);
 }
 
 INSTANTIATE_TEST_SUITE_P(DataModels,
