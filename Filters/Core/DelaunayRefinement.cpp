@@ -469,7 +469,7 @@ private:
   bool splitEdge(int t, int k, Vec2 w, std::vector<int>& created);
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
-  bool retag(int t);
+  bool retag(int t, char* far = nullptr);
   void appendNeighbours(int t, std::vector<int>& list) const
   {
     for (int n : this->Nbr[t])
@@ -1110,15 +1110,19 @@ std::size_t Refiner::recoverCurves()
     queue.push_back(static_cast<int>(t));
   }
   // Every triangle takes the region at its centroid first; a retag can allow its neighbours'
-  // (a few rounds).
+  // (a few rounds). A triangle with no curve within its longest edge of its centroid is marked
+  // far: while it stays as it is, no curve point lies inside it (none lies farther from the
+  // centroid than its farthest corner, 2/3 of a median, less than the longest edge), so it is
+  // not probed. Insertions change only the triangles they report (the new vertex's star).
   std::vector<int> todo(queue.begin(), queue.end()), next;
+  std::vector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
   {
     next.clear();
     for (int t : todo)
     {
       this->poll();
-      if (this->retag(t))
+      if (this->retag(t, &far[t]))
       {
         this->appendNeighbours(t, next);
       }
@@ -1133,6 +1137,10 @@ std::size_t Refiner::recoverCurves()
     this->poll();
     const int t = queue.front();
     queue.pop_front();
+    if (static_cast<std::size_t>(t) < far.size() && far[t])
+    {
+      continue; // no curve comes into it (see above)
+    }
     const auto tri = this->M.triangles[t];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
     const double shortest = std::sqrt(std::min({ norm2(b - a), norm2(c - b), norm2(a - c) }));
@@ -1146,6 +1154,10 @@ std::size_t Refiner::recoverCurves()
     ++this->Inserted; // (also what poll() reports)
     for (int u : created)
     {
+      if (static_cast<std::size_t>(u) < far.size())
+      {
+        far[u] = 0; // changed
+      }
       this->retag(u);
       queue.push_back(u);
     }
@@ -1337,7 +1349,7 @@ std::size_t Refiner::followCurves()
 
 // Gives t the region at its centroid unless that gives it a region boundary edge with an end
 // off the curves. Returns whether its region changed.
-bool Refiner::retag(int t)
+bool Refiner::retag(int t, char* far)
 {
   const auto& tri = this->M.triangles[t];
   const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
@@ -1345,6 +1357,10 @@ bool Refiner::retag(int t)
   const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
   if (!this->Live[t] || (this->P.curveDistance && this->P.curveDistance(g, longest) >= longest))
   {
+    if (far && this->Live[t])
+    {
+      *far = 1;
+    }
     return false; // no curve runs near it: its region is its neighbours'
   }
   const int r = this->P.regionAt(g);
