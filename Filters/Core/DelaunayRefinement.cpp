@@ -1348,7 +1348,8 @@ std::size_t Refiner::followCurves()
 }
 
 // Gives t the region at its centroid unless that gives it a region boundary edge with an end
-// off the curves. Returns whether its region changed.
+// off the curves. Returns whether its region changed; sets *far (when given) for a live
+// triangle with no curve within its longest edge of its centroid (see recoverCurves).
 bool Refiner::retag(int t, char* far)
 {
   const auto& tri = this->M.triangles[t];
