@@ -690,10 +690,7 @@ TEST(MesherTest, CurveRecoveryBringsBackTheCornersTheCompressionLost)
     { 1000, 1000 },
     { 0, 1000 } };
   strata::RawPolylines raw;
-  raw.points = corners;
-  raw.offsets = { 0, 8 };
-  raw.connectivity = { 0, 1, 2, 3, 4, 5, 6, 0 };
-  raw.regionId = { 0 };
+  strata_test::addClosedLoop(raw, corners, 0);
   strata::MesherParams p;
   p.grid.maxLevel = 6;
   p.grid.localMaxLevel = 7;
