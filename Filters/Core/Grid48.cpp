@@ -85,6 +85,19 @@
 //      usual one and that of the largest target (resolveParams), so the boundary criteria
 //      (a)-(d) stop earlier where the field asks for large triangles, and (f) refines where
 //      it asks for small ones.
+//  (g) thin layers (opt-in, Grid48Params::thinLayerRefinement; localMaxLevel <= l <
+//      junctionMaxLevel): two strands of the boundary cross T (two curves, or one curve twice)
+//      and the layer between them is at least the leg of junctionMaxLevel (the finest edge)
+//      thick everywhere in T but thinner than T's legs (BoundaryIndex::thinLayer: the
+//      smallest distance from the ends and middles of either strand's parts inside T to the
+//      other strand). Below localMaxLevel (b) and (c) already split such triangles whatever
+//      the layer's thickness; beyond it, (g) goes on while the layer is thinner than the
+//      cells, so the compression finds grid vertices inside it: a layer one to sixteen finest
+//      edges thick is kept instead of being cut where the recovery's probes no longer fit
+//      (random faulted sections: the boundary within half the local edge on 32 of 48 instead
+//      of 9). Two curves meeting at a common end within twice T's longest edge at 30 degrees
+//      or more are a junction, not a layer; a pinch-out's tip is not split (the thickness
+//      there goes to 0), so it ends in cells the tip cutting of the refinement can handle.
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
 // shared by two loops in the Loops form is counted once) chained through the nodes where
 // exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
@@ -138,6 +151,8 @@ namespace
 {
 
 constexpr int kLatticeBits = 31;
+// (g): a layer is split while thinner than this many of the triangle's legs.
+constexpr double kThinLayerLegs = 1.0;
 constexpr std::uint32_t kLatticeSize = 1u << kLatticeBits;
 constexpr std::uint8_t kGlobalNo = 0x40; // global criterion already said no (this refine call)
 constexpr std::uint8_t kEmpty = 0x80;    // no model vertex or segment touches the triangle
@@ -678,6 +693,148 @@ BoundaryIndex::TriangleResult BoundaryIndex::testTriangle(Vec2 a,
   return SomethingInside;
 }
 
+bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+{
+  // The segments meeting the triangle, as in testTriangle.
+  const int x0 = cellX(std::min({ a.x, b.x, c.x }));
+  const int x1 = cellX(std::max({ a.x, b.x, c.x }));
+  const int y0 = cellY(std::min({ a.y, b.y, c.y }));
+  const int y1 = cellY(std::max({ a.y, b.y, c.y }));
+  if (++this->CurrentStamp == 0)
+  {
+    std::fill(this->Stamp.begin(), this->Stamp.end(), 0);
+    this->CurrentStamp = 1;
+  }
+  this->Hits.clear();
+  for (int y = y0; y <= y1; ++y)
+  {
+    for (int x = x0; x <= x1; ++x)
+    {
+      const std::size_t cell = static_cast<std::size_t>(y) * this->Cells + x;
+      for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
+      {
+        const int s = this->SegItems[k];
+        if (this->Stamp[s] != this->CurrentStamp)
+        {
+          this->Stamp[s] = this->CurrentStamp;
+          if (segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+          {
+            this->Hits.push_back(s);
+          }
+        }
+      }
+    }
+  }
+  if (this->Hits.size() < 2)
+  {
+    return false;
+  }
+  // Strands: runs of consecutive segments of one curve joined at a node inside the triangle
+  // (a closed curve's strand through its start is counted as two: its thickness to itself
+  // is then measured too, which only matters for a fold, itself a thin layer).
+  std::sort(this->Hits.begin(), this->Hits.end());
+  this->StrandEnd.clear();
+  const std::size_t n = this->Hits.size();
+  for (std::size_t i = 1; i <= n; ++i)
+  {
+    const int s = this->Hits[i - 1];
+    if (i == n || this->Hits[i] != s + 1 || this->ChainOf[s + 1] != this->ChainOf[s] ||
+      !pointInTriangle(this->B[s], a, b, c))
+    {
+      this->StrandEnd.push_back(static_cast<int>(i));
+    }
+  }
+  const std::size_t strands = std::min<std::size_t>(this->StrandEnd.size(), 16);
+  if (strands < 2)
+  {
+    return false;
+  }
+  // Each hit's part inside the triangle (Cyrus-Beck clipping), by its ends and middle.
+  this->StrandPoints.resize(3 * n);
+  const Vec2 corners[3] = { a, b, c };
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const Vec2 p = this->A[this->Hits[i]], d = this->B[this->Hits[i]] - p;
+    double t0 = 0.0, t1 = 1.0;
+    for (int e = 0; e < 3; ++e)
+    {
+      const Vec2 u = corners[e], v = corners[(e + 1) % 3];
+      const double at = orient2d(u, v, p), along = cross(v - u, d); // inside: at + t along >= 0
+      if (along > 0.0)
+      {
+        t0 = std::max(t0, -at / along);
+      }
+      else if (along < 0.0)
+      {
+        t1 = std::min(t1, -at / along);
+      }
+    }
+    t1 = std::max(t0, t1); // a touch
+    this->StrandPoints[3 * i] = p + t0 * d;
+    this->StrandPoints[3 * i + 1] = p + (0.5 * (t0 + t1)) * d;
+    this->StrandPoints[3 * i + 2] = p + t1 * d;
+  }
+  const auto first = [&](std::size_t k) { return k == 0 ? 0 : this->StrandEnd[k - 1]; };
+  // The smallest distance from strand k's points in the triangle to strand m's segments.
+  const auto nearest = [&](std::size_t k, std::size_t m)
+  {
+    double least = HUGE_VAL;
+    for (int i = 3 * first(k); i < 3 * this->StrandEnd[k]; ++i)
+    {
+      double d2 = HUGE_VAL;
+      for (int j = first(m); j < this->StrandEnd[m]; ++j)
+      {
+        d2 = std::min(d2,
+          pointSegmentDistance2(
+            this->StrandPoints[i], this->A[this->Hits[j]], this->B[this->Hits[j]]));
+      }
+      least = std::min(least, d2);
+    }
+    return std::sqrt(least);
+  };
+  const double longest2 =
+    4.0 * std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }); // (twice the longest)^2
+  const Vec2 centroid = (1.0 / 3.0) * (a + b + c);
+  const double cos30 = 0.86602540378443864676;
+  for (std::size_t k = 0; k < strands; ++k)
+  {
+    const int ck = this->ChainOf[this->Hits[first(k)]];
+    for (std::size_t m = k + 1; m < strands; ++m)
+    {
+      const int cm = this->ChainOf[this->Hits[first(m)]];
+      if (ck != cm)
+      {
+        // A common end of the two curves near the triangle, at 30 degrees or more: a junction.
+        bool junction = false;
+        for (int endK = 0; endK < 2 && !junction; ++endK)
+        {
+          const int sk = endK == 0 ? this->ChainBegin[ck] : this->ChainBegin[ck + 1] - 1;
+          const Vec2 xk = endK == 0 ? this->A[sk] : this->B[sk];
+          const Vec2 dk = (endK == 0 ? this->B[sk] : this->A[sk]) - xk;
+          for (int endM = 0; endM < 2 && !junction; ++endM)
+          {
+            const int sm = endM == 0 ? this->ChainBegin[cm] : this->ChainBegin[cm + 1] - 1;
+            const Vec2 xm = endM == 0 ? this->A[sm] : this->B[sm];
+            const Vec2 dm = (endM == 0 ? this->B[sm] : this->A[sm]) - xm;
+            junction = xk == xm && norm2(xk - centroid) <= longest2 &&
+              dot(dk, dm) < cos30 * std::sqrt(norm2(dk) * norm2(dm));
+          }
+        }
+        if (junction)
+        {
+          continue;
+        }
+      }
+      const double thickness = std::min(nearest(k, m), nearest(m, k));
+      if (thickness >= thinnest && thickness < thickest)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
 template<typename Visit>
 bool BoundaryIndex::anySegment(double x0, double y0, double x1, double y1, Visit&& visit)
 {
@@ -800,6 +957,13 @@ public:
       this->TopLevel = std::max(this->TopLevel, this->P.junctionMaxLevel);
       this->collectFeaturePoints(model);
     }
+    this->ThinLayers = this->Local && this->P.thinLayerRefinement &&
+      this->P.junctionMaxLevel > this->P.localMaxLevel;
+    if (this->ThinLayers)
+    {
+      this->TopLevel = std::max(this->TopLevel, this->P.junctionMaxLevel);
+      this->FinestLeg = this->G.hypotenuseLength(this->P.junctionMaxLevel) * 0.70710678118654752440;
+    }
     if (this->P.targetEdgeLength)
     {
       this->TargetLevel = this->P.targetMaxLevel;
@@ -910,6 +1074,22 @@ public:
       if (r == BoundaryIndex::NothingInside)
       {
         flags |= kEmpty;
+      }
+    }
+    // (g) thin layers, beyond localMaxLevel: a layer at least the finest leg thick that is
+    // thinner than T's legs.
+    if (this->ThinLayers && level >= this->P.localMaxLevel && level < this->P.junctionMaxLevel &&
+      !(flags & kEmpty))
+    {
+      ++this->G.Stats.localTests;
+      const double leg = this->G.hypotenuseLength(level) * 0.70710678118654752440;
+      if (this->Index->thinLayer(this->G.vertexPosition(v[0]),
+            this->G.vertexPosition(v[1]),
+            this->G.vertexPosition(v[2]),
+            this->FinestLeg,
+            kThinLayerLegs * leg))
+      {
+        return true;
       }
     }
     // (d) close feature points. When the local test ran with localRefinement and said no, T
@@ -1135,6 +1315,8 @@ private:
   std::vector<double> VertexTarget; // target at each grid vertex, -1 until evaluated
   std::vector<double> FeatureX, FeatureY, FeatureNearest;
   bool Local = false;
+  bool ThinLayers = false; // (g)
+  double FinestLeg = 0.0;  // (g): the leg of junctionMaxLevel
   double IndexReach = 0.0; // hypotenuses up to this length are decided with the index
   DistanceField::Scratch Scratch;
 };

@@ -76,6 +76,14 @@ public:
   /// separate strands; without `local` also two curves bounding a common region (the
   /// exterior counts as one), or curves of three or more regions.
   TriangleResult testTriangle(Vec2 a, Vec2 b, Vec2 c, bool local, bool thin);
+  /// Grid48's thin layer criterion (g) for the closed counter-clockwise triangle abc: whether
+  /// two strands of the boundary cross it (two curves, or one curve twice) with a thickness in
+  /// [thinnest, thickest), the thickness being the smallest distance from a point of either
+  /// strand inside the triangle (the ends and middles of its segments' parts inside) to the
+  /// other strand's segments: the layer between them is at least that thick everywhere in the
+  /// triangle. Two curves that meet at a common end within twice the triangle's longest edge
+  /// at an angle of 30 degrees or more are not a layer (a junction, not a pinch-out).
+  bool thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
 
   std::size_t numberOfSegments() const { return this->A.size(); }
   std::size_t numberOfCurves() const { return this->ChainBegin.size() - 1; }
@@ -111,6 +119,8 @@ private:
   std::vector<std::uint32_t> Stamp;
   std::uint32_t CurrentStamp = 0;
   std::vector<int> Hits;
+  std::vector<int> StrandEnd;     // thinLayer: one past each strand's last hit
+  std::vector<Vec2> StrandPoints; // thinLayer: clipped segment points, per hit
 };
 
 /// Parameters of the grid. Automatic values (-1, 0) are resolved by Grid48::resolveParams;
@@ -159,6 +169,12 @@ struct Grid48Params
   /// a strip about as wide as their distance that goes on further than the local triangles
   /// (a thin layer ending on the border) is not separated: only its ends would be resolved.
   bool junctionRefinement = true;
+  /// Beyond the paper (thin layers): also split triangles beyond localMaxLevel, up to
+  /// junctionMaxLevel, that two boundary strands cross with a layer between them thinner than
+  /// the triangle's legs but at least as thick as the legs of junctionMaxLevel (see
+  /// BoundaryIndex::thinLayer), so that such a layer gets cells about as wide as it is and
+  /// the compression keeps it. Needs localMaxLevel > maxLevel.
+  bool thinLayerRefinement = false;
   /// Level cap of junctionRefinement. Range [localMaxLevel, 60], or -1 for
   /// min(localMaxLevel + 8, 60) (hypotenuses 16 times shorter than at localMaxLevel) when
   /// localMaxLevel > maxLevel, else localMaxLevel (no local refinement of any kind). Equal to

@@ -30,6 +30,7 @@ bool atLeastAsFine(const Grid48Params& next, const Grid48Params& current)
     next.junctionMaxLevel >= current.junctionMaxLevel && next.minLevel >= current.minLevel &&
     next.tolerance <= current.tolerance &&
     (next.junctionRefinement || !current.junctionRefinement) &&
+    (next.thinLayerRefinement || !current.thinLayerRefinement) &&
     next.featurePointAngle >= current.featurePointAngle &&
     (next.localRefinement || !current.localRefinement) &&
     (next.thinRegionRefinement || !current.thinRegionRefinement) && next.margin == current.margin &&

@@ -21,6 +21,10 @@
 //                       Shared curves, summary (angles, boundary deviation both ways, its
 //                       distances through SegmentGrids first, region areas),
 //                       regions keeping less than half their area reported by id
+// With grid.thinLayerRefinement (opt-in), the whole pipeline runs with it; when that mesh
+// misses MinimumAngle (by more than 0.05 degrees, unless corners are kept) or the 0.5% area
+// bound, it runs again without it and keeps the better mesh (larger smallest angle, then
+// smaller area error), saying so in a warning and Summary::thinLayerFallback.
 // Nothing is kept between calls.
 #include "Mesher.h"
 
@@ -34,6 +38,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <limits>
 #include <map>
@@ -976,11 +981,13 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<
   return curves;
 }
 
-MesherResult triangulate(const RawPolylines& input,
-  const MesherParams& params,
-  const ProgressCallback& callback)
+namespace
 {
-  const ProgressReporter progress(callback);
+
+MesherResult triangulateOnce(const RawPolylines& input,
+  const MesherParams& params,
+  const ProgressReporter& progress)
+{
   MesherResult result;
   const Clock::time_point begin = Clock::now();
   Clock::time_point t0 = begin;
@@ -1384,6 +1391,64 @@ MesherResult triangulate(const RawPolylines& input,
   result.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
   progress.report(1.0, "done");
   return result;
+}
+
+} // namespace
+
+MesherResult triangulate(const RawPolylines& input,
+  const MesherParams& params,
+  const ProgressCallback& callback)
+{
+  const ProgressReporter progress(callback);
+  if (!params.grid.thinLayerRefinement)
+  {
+    return triangulateOnce(input, params, progress);
+  }
+  // The thin layer refinement changes the grid where layers are thinner than its cells; the
+  // compression then sometimes leaves vertices off the curves or a region short (a few models
+  // out of many, see README). Its mesh is kept when it meets the angle and area bounds;
+  // otherwise the mesh without it is made too and the better of the two kept: the larger
+  // smallest angle (up to MinimumAngle), then the smaller area error.
+  const Clock::time_point begin = Clock::now();
+  MesherResult thin = triangulateOnce(input, params, progress.sub(0.0, 0.6));
+  const bool angles =
+    params.compression.optimize && params.refinement.minimumAngle > 0.0 && !params.keepSharpCorners;
+  const double target = params.refinement.minimumAngle - kRetryAngleSlack;
+  if (thin.summary.triangles == 0 ||
+    ((!angles || thin.summary.minAngle >= target) && thin.summary.maxRegionAreaError <= kAreaBound))
+  {
+    progress.report(1.0, "done");
+    return thin;
+  }
+  MesherParams plainParams = params;
+  plainParams.grid.thinLayerRefinement = false;
+  MesherResult plain = triangulateOnce(input, plainParams, progress.sub(0.6, 1.0));
+  const double a1 = angles ? std::min(thin.summary.minAngle, target) : 0.0;
+  const double a0 = angles ? std::min(plain.summary.minAngle, target) : 0.0;
+  const bool keepThin = a1 > a0 + kRetryAngleSlack ||
+    (a1 >= a0 - kRetryAngleSlack &&
+      thin.summary.maxRegionAreaError < plain.summary.maxRegionAreaError);
+  MesherResult& kept = keepThin ? thin : plain;
+  const MesherResult& other = keepThin ? plain : thin;
+  kept.summary.thinLayerFallback = !keepThin;
+  const auto figures = [](const MesherResult& r)
+  {
+    char text[96];
+    std::snprintf(text,
+      sizeof(text),
+      "smallest angle %.2f degrees, area error %.2f%%",
+      r.summary.minAngle,
+      100.0 * r.summary.maxRegionAreaError);
+    return std::string(text);
+  };
+  kept.warnings.push_back(std::string("ThinLayerRefinement: its mesh missed the bounds (") +
+    figures(thin) + "), so the mesh without it was made too (" + figures(plain) + "); " +
+    (keepThin ? "the thin layer mesh is kept" : "that one is kept"));
+  kept.summary.secondsPerStage.insert(
+    kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
+  kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  progress.report(1.0, "done");
+  return kept;
 }
 
 } // namespace strata

@@ -150,6 +150,9 @@ struct MesherResult
     /// could not mend): what keeping the corners costs. Some also count in
     /// trianglesAtSharpCorners.
     std::size_t keptCornerTriangles = 0;
+    /// With grid.thinLayerRefinement: true when its mesh missed the angle or area bound and
+    /// the mesh made without it was kept instead (a warning gives both meshes' figures).
+    bool thinLayerFallback = false;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;

@@ -33,7 +33,7 @@ DATA = os.path.join(HERE, "..", "..", "Data")
 MODELS = ["lake_superior", "lake_superior_full", "salt_dome", "salt_dome_loops", "gulf_section",
           "gulf_section_loops", "countries_westeurope", "countries_westeurope_loops",
           "geology_marmousi", "guitar", "pinch_out", "thin_layer", "nested_holes",
-          "touching_loops", "faulted_section"]
+          "touching_loops", "faulted_section", "faulted_thin_layers"]
 # The paper's figures: (MaxLevel giving a similar count, paper triangles, paper min angle).
 PAPER = {"lake_superior": (1906, 11.5), "salt_dome": (6183, 10.4),
          "gulf_section": (11015, 5.25)}

@@ -650,6 +650,96 @@ TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curv
   expectValidMesh(with, with.extract(), "lens");
 }
 
+TEST(Grid48Test, thin_layer_refinement_gives_a_layer_cells_as_wide_as_it_and_no_finer)
+{
+  // A 4 x 4 square cut by two horizontal layers (Loops form): A is 0.02 thick (about three
+  // finest legs of the junction level 18), B 0.004 (below the finest leg, about 0.0061).
+  // Both are far thinner than the legs of localMaxLevel 10 (about 0.097).
+  const double a0 = -1.0, a1 = -0.98, b0 = 1.0, b1 = 1.004;
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::Loops;
+  raw.offsets.push_back(0);
+  const auto band = [&](double y0, double y1, int region) {
+    strata_test::addClosedLoop(raw, { { -2, y0 }, { 2, y0 }, { 2, y1 }, { -2, y1 } }, region);
+  };
+  band(-2, a0, 0);
+  band(a0, a1, 1);
+  band(a1, b0, 2);
+  band(b0, b1, 3);
+  band(b1, 2, 4);
+  const strata::Model model = strata::buildModel(raw);
+  const strata::DistanceField field(model);
+  Grid48Params p;
+  p.maxLevel = 6;
+  p.localMaxLevel = 10;
+  const Grid48 without = Grid48::build(model, field, p);
+  p.thinLayerRefinement = true;
+  const Grid48 with = Grid48::build(model, field, p);
+  ASSERT_EQ(with.params().junctionMaxLevel, 18);
+  const double finestLeg = with.hypotenuseLength(18) / std::sqrt(2.0);
+  ASSERT_GT(a1 - a0, finestLeg);
+  ASSERT_LT(b1 - b0, finestLeg);
+  // Away from the border's junctions: the leaves that both sides of a layer cross (their
+  // largest leg and finest level), and the leaves finer than localMaxLevel near a layer.
+  struct Crossing
+  {
+    int leaves = 0;
+    double largestLeg = 0.0;
+    int finestLevel = 0;
+    int fineNear = 0;
+  };
+  const auto crossing = [&](const Grid48& grid, double y0, double y1)
+  {
+    Crossing r;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t))
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      const Vec2 a = grid.vertexPosition(v[0]), b = grid.vertexPosition(v[1]),
+                 c = grid.vertexPosition(v[2]);
+      const Vec2 g = (1.0 / 3.0) * (a + b + c);
+      if (std::fabs(g.x) > 1.5)
+      {
+        continue;
+      }
+      if (std::fabs(g.y - 0.5 * (y0 + y1)) < 0.2 && grid.nodeLevel(t) > p.localMaxLevel)
+      {
+        ++r.fineNear;
+      }
+      if (segmentMeetsTriangle({ -2, y0 }, { 2, y0 }, a, b, c) &&
+        segmentMeetsTriangle({ -2, y1 }, { 2, y1 }, a, b, c))
+      {
+        ++r.leaves;
+        r.largestLeg =
+          std::max(r.largestLeg, grid.hypotenuseLength(grid.nodeLevel(t)) / std::sqrt(2.0));
+        r.finestLevel = std::max(r.finestLevel, grid.nodeLevel(t));
+      }
+    }
+    return r;
+  };
+  // Without the option the layer A lies in cells far wider than it is thick, and nothing near
+  // it is finer than localMaxLevel ...
+  const Crossing aWithout = crossing(without, a0, a1);
+  EXPECT_GT(aWithout.leaves, 0);
+  EXPECT_GT(aWithout.largestLeg, 3.0 * (a1 - a0));
+  EXPECT_EQ(aWithout.fineNear, 0);
+  // ... with it, the cells near A are refined beyond localMaxLevel, and a cell holding both
+  // sides of A is at most as wide as A is thick.
+  const Crossing aWith = crossing(with, a0, a1);
+  EXPECT_GT(aWith.fineNear, 0);
+  EXPECT_LE(aWith.largestLeg, (a1 - a0) * (1.0 + 1e-9));
+  EXPECT_LE(with.maxLeafLevel(), with.params().junctionMaxLevel);
+  // B, thinner than the finest leg, is left to the local criterion (up to localMaxLevel).
+  const Crossing bWith = crossing(with, b0, b1);
+  EXPECT_GT(bWith.leaves, 0);
+  EXPECT_LE(bWith.finestLevel, p.localMaxLevel);
+  EXPECT_EQ(bWith.fineNear, 0);
+  expectValidMesh(with, with.extract(), "thin layers");
+}
+
 TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
 {
   // gulf_section has junction pairs 0.7 m, 3.7 m and 10.9 m apart, among 60-180 m edges at

@@ -563,7 +563,8 @@ const DefaultCase kDefaultCases[] = {
   { "gulf_section_loops.vtp", 25, 130, 95, 0.7 },
   { "thin_layer.vtp", 25, 130, 95, 0.5 },
   { "geology_marmousi.vtp", 25, 130, 95, 2.2 },
-  { "faulted_section.vtp", 25, 130, 95, 0.5 }, // a 15-degree pinch-out tip in a large triangle
+  { "faulted_section.vtp", 25, 130, 95, 0.5 },     // a 15-degree pinch-out tip in a large triangle
+  { "faulted_thin_layers.vtp", 25, 130, 95, 0.8 }, // 0.47 with ThinLayerRefinement
 };
 
 class DefaultQuality : public ::testing::TestWithParam<DefaultCase>
@@ -706,6 +707,56 @@ TEST(MesherTest, CurveRecoveryBringsBackTheCornersTheCompressionLost)
   }
   EXPECT_GE(r.summary.minAngle, p.refinement.minimumAngle - 1e-6);
   EXPECT_LE(r.summary.maxRegionAreaError, 1e-4);
+}
+
+// faulted_thin_layers (a random faulted section): by default its layers one to two finest
+// edges thick end early along the faults, and the boundary lies up to 0.73 local edges from
+// the curves; with ThinLayerRefinement the grid gets cells as wide as those layers, and the
+// boundary comes within issue 5's half local edge, every other bound still held.
+TEST(MesherTest, ThinLayerRefinementBringsAFaultedSectionsBoundaryWithinHalfTheLocalEdge)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("faulted_thin_layers.vtp"));
+  const strata::Model model = strata::buildModel(raw);
+  strata::MesherParams p;
+  const strata::MesherResult plain = strata::triangulate(raw, p);
+  p.grid.thinLayerRefinement = true;
+  const strata::MesherResult thin = strata::triangulate(raw, p);
+  EXPECT_GT(boundaryDeviationOverLocalEdge(model, plain), 0.6);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, thin), 0.5);
+  EXPECT_FALSE(thin.summary.thinLayerFallback);
+  EXPECT_GE(thin.summary.minAngle, p.refinement.minimumAngle - 0.05);
+  EXPECT_LE(thin.summary.maxAngle, 130.0);
+  EXPECT_LE(thin.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(thin.summary.maxBoundaryVertexDistance, 1e-9 * model.size());
+  EXPECT_EQ(thin.summary.finestEdgeLength, plain.summary.finestEdgeLength);
+}
+
+// Marmousi: the grid of ThinLayerRefinement makes the compression leave vertices off the
+// curves (a 9.4-degree mesh), so the mesh without it is made too and kept, as it is better;
+// a warning gives both meshes' figures, and the time of the discarded run is a stage.
+TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBounds)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp"));
+  strata::MesherParams p;
+  const strata::MesherResult plain = strata::triangulate(raw, p);
+  EXPECT_FALSE(plain.summary.thinLayerFallback);
+  p.grid.thinLayerRefinement = true;
+  const strata::MesherResult thin = strata::triangulate(raw, p);
+  EXPECT_TRUE(thin.summary.thinLayerFallback);
+  EXPECT_EQ(thin.triangles, plain.triangles);
+  EXPECT_EQ(thin.points, plain.points);
+  EXPECT_EQ(thin.summary.minAngle, plain.summary.minAngle);
+  std::string all;
+  for (const std::string& w : thin.warnings)
+  {
+    all += w + "\n";
+  }
+  EXPECT_NE(all.find("ThinLayerRefinement: its mesh missed the bounds"), std::string::npos) << all;
+  ASSERT_FALSE(thin.summary.secondsPerStage.empty());
+  EXPECT_EQ(thin.summary.secondsPerStage.front().first, "discarded run");
+  EXPECT_GE(thin.summary.totalSeconds, thin.summary.secondsPerStage.front().second);
 }
 
 // A region kept (half of its area or more) whose triangles' area is more than 10% off its

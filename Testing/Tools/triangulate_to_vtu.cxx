@@ -6,6 +6,7 @@
 // point arrays VertexClass (Int8) and Displacement (Float64, 3 components). Prints the summary
 // as JSON on stdout. Options (defaults are the library's):
 //   --max-level N --local-max-level N --tolerance X --max-edge-length X --min-edge-length X
+//   --thin-layers (ThinLayerRefinement)
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
@@ -179,6 +180,8 @@ int main(int argc, char** argv)
       p.grid.localMaxLevel = std::atoi(next());
     else if (a == "--tolerance")
       p.grid.tolerance = std::atof(next());
+    else if (a == "--thin-layers")
+      p.grid.thinLayerRefinement = true;
     else if (a == "--max-edge-length")
       p.grid.maxEdgeLength = std::atof(next());
     else if (a == "--min-edge-length")
@@ -246,7 +249,8 @@ int main(int argc, char** argv)
                 " \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
                 " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
-                " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n",
+                " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n"
+                " \"thin_layer_fallback\": %s,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -265,7 +269,8 @@ int main(int argc, char** argv)
       s.curveVertices,
       s.sharpCorners,
       r.keptCorners.size(),
-      s.keptCornerTriangles);
+      s.keptCornerTriangles,
+      s.thinLayerFallback ? "true" : "false");
     std::printf(" \"kept_corner_list\": [");
     for (std::size_t i = 0; i < r.keptCorners.size(); ++i)
     {
