@@ -227,6 +227,10 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
     vtkStrataMeshOutput::AddField(
       fd, "KeptCornerTriangles", static_cast<int>(s.keptCornerTriangles));
   }
+  if (params.grid.thinLayerRefinement)
+  {
+    vtkStrataMeshOutput::AddField(fd, "ThinLayerFallback", s.thinLayerFallback ? 1 : 0);
+  }
   auto unresolved = vtkSmartPointer<vtkIntArray>::New();
   unresolved->SetName("UnresolvedRegions");
   for (int id : result.unresolvedRegions)

@@ -31,8 +31,10 @@
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
- * that), with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, and `Seconds<Stage>`
- * per stage. `Displacement` is 0 at vertices the optimization
+ * that), with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, with
+ * ThinLayerRefinement `ThinLayerFallback` (1 when its mesh missed MinimumAngle or the 0.5%
+ * area bound and the mesh made without it was kept; `SecondsDiscardedRun` then times the
+ * other run), and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the optimization
  * inserted.
  *
  * Output port 1: the approximated boundary (edges whose two triangles have different

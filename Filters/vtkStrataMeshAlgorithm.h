@@ -125,6 +125,26 @@ public:
 
   ///@{
   /**
+   * Beyond the paper, thin layers (default off): also bisect grid triangles finer than
+   * LocalMaxLevel, down to the junction refinement's level (16 times shorter edges than at
+   * LocalMaxLevel), where two boundary curves (or one curve twice) cross them with a layer
+   * between them thinner than the triangle's legs but at least as thick as that level's legs
+   * (the finest edge), so that the compression gets cells about as wide as the layer and
+   * keeps it. Curves meeting at a junction at 30 degrees or more are not a layer; a
+   * pinch-out's tip, thinner than the finest edge, is not refined. Physical Compression
+   * Triangulation keeps the mesh made with it only when it meets MinimumAngle and the 0.5%
+   * region area bound; otherwise it also meshes without it, keeps the better of the two and
+   * says so in a warning and the ThinLayerFallback field. On random faulted sections it
+   * brings the boundary within half the local edge on 32 of 48 models instead of 9; the
+   * README gives its costs.
+   */
+  vtkSetMacro(ThinLayerRefinement, bool);
+  vtkGetMacro(ThinLayerRefinement, bool);
+  vtkBooleanMacro(ThinLayerRefinement, bool);
+  ///@}
+
+  ///@{
+  /**
    * Target edge length field (input 1, optional; default: none): any vtkDataSet whose point
    * array TargetEdgeLengthArray gives the wanted length of the grid triangles' longest edge,
    * in model units, in the plane of the model (x, y; a flat dataset off z = 0 is read in its
@@ -201,6 +221,7 @@ protected:
   double Tolerance = 0.0;
   double MaximumEdgeLength = 0.0;
   double MinimumEdgeLength = 0.0;
+  bool ThinLayerRefinement = false;
   char* TargetEdgeLengthArray = nullptr;
   double TargetEdgeLengthGrading = 0.5;
 

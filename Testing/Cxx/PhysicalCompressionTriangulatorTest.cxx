@@ -97,6 +97,7 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }
   EXPECT_EQ(fd->GetArray("KeptCorners"), nullptr) << "only with KeepSharpCorners";
+  EXPECT_EQ(fd->GetArray("ThinLayerFallback"), nullptr) << "only with ThinLayerRefinement";
   EXPECT_EQ(fd->GetArray("NumberOfTriangles")->GetTuple1(0), mesh->GetNumberOfCells());
   EXPECT_DOUBLE_EQ(fd->GetArray("MinimumAngle")->GetTuple1(0), smallest);
 }
@@ -147,6 +148,38 @@ TEST(PhysicalCompressionTriangulatorTest, keep_sharp_corners_meshes_the_pinch_ou
   std::ostringstream printed;
   mesher->Print(printed);
   EXPECT_NE(printed.str().find("KeepSharpCorners: 1"), std::string::npos);
+}
+
+// faulted_thin_layers with ThinLayerRefinement: more triangles (cells as wide as its thin
+// layers), the bounds kept, no fallback (field ThinLayerFallback 0), no warning; the property
+// is printed.
+TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says_which_mesh_is_kept)
+{
+  auto reader = Reader("faulted_thin_layers.vtp");
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputConnection(reader->GetOutputPort());
+  EXPECT_FALSE(mesher->GetThinLayerRefinement());
+  mesher->Update();
+  const vtkIdType plain = mesher->GetOutput()->GetNumberOfCells();
+  mesher->ThinLayerRefinementOn();
+  auto log = Watch(mesher);
+  mesher->Update();
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
+  EXPECT_TRUE(log->Warnings.empty()) << log->Warnings;
+  vtkUnstructuredGrid* mesh = mesher->GetOutput();
+  EXPECT_GT(mesh->GetNumberOfCells(), plain);
+  vtkFieldData* fd = mesh->GetFieldData();
+  ASSERT_NE(fd->GetArray("ThinLayerFallback"), nullptr);
+  EXPECT_EQ(fd->GetArray("ThinLayerFallback")->GetTuple1(0), 0.0);
+  EXPECT_GE(fd->GetArray("MinimumAngle")->GetTuple1(0), 29.95);
+  EXPECT_LE(fd->GetArray("MaxRegionAreaError")->GetTuple1(0), 0.005);
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    ASSERT_GT(SignedArea(mesh, c), 0.0) << "triangle " << c;
+  }
+  std::ostringstream printed;
+  mesher->Print(printed);
+  EXPECT_NE(printed.str().find("ThinLayerRefinement: On"), std::string::npos);
 }
 
 TEST(PhysicalCompressionTriangulatorTest, boundary_output_is_a_shared_curves_model_of_the_mesh)

@@ -50,6 +50,18 @@ class GridTest(unittest.TestCase):
         grid.UpdatePipeline()
         self.assertGreaterEqual(grid.GetDataInformation().GetNumberOfCells(), counts[-1])
 
+    def test_thin_layer_refinement_refines_beyond_the_local_level(self):
+        model = simple.XMLPolyDataReader(FileName=[st.data("faulted_thin_layers.vtp")])
+        grid = NS["Adaptive48Grid"](Input=model)
+        default = dsa.WrapDataObject(servermanager.Fetch(grid))
+        grid.ThinLayerRefinement = 1
+        thin = dsa.WrapDataObject(servermanager.Fetch(grid))
+        local = int(default.FieldData["LocalMaxLevel"][0])
+        self.assertLessEqual(int(np.asarray(default.CellData["Level"]).max()), local + 8)
+        self.assertGreater(thin.GetNumberOfCells(), default.GetNumberOfCells())
+        finer = (np.asarray(thin.CellData["Level"]) > local).sum()
+        self.assertGreater(finer, (np.asarray(default.CellData["Level"]) > local).sum())
+
     def test_classified_grid_has_the_documented_arrays(self):
         classes = NS["Classify48Grid"](Input=self.model, MaxLevel=10)
         grid = dsa.WrapDataObject(servermanager.Fetch(classes, idx=0))

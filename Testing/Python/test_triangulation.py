@@ -65,6 +65,7 @@ class TriangulationTest(unittest.TestCase):
         self.assertAlmostEqual(mesh.MinimumAngle, 30.0)
         self.assertEqual(mesh.CurveRecovery, 1)
         self.assertEqual(mesh.KeepSharpCorners, 0)
+        self.assertEqual(mesh.ThinLayerRefinement, 0)
         for name in ("SpringStiffness", "Damping", "TimeStep", "MaxIterations", "PushVelocity",
                      "Tolerance", "Form", "RegionArrayName", "MaximumEdgeLength",
                      "MinimumEdgeLength"):
@@ -204,6 +205,18 @@ class TriangulationTest(unittest.TestCase):
         self.assertLess(layer[0], 200.0)
         self.assertGreater(layer[1], 500.0)
         self.assertTrue((signed_areas(on) > 0).all())
+
+    def test_thin_layer_refinement_refines_the_thin_layers_and_keeps_the_bounds(self):
+        default, thin = default_and_changed("faulted_thin_layers.vtp", ThinLayerRefinement=1)
+        self.assertNotIn("ThinLayerFallback", default.FieldData.keys())
+        self.assertEqual(field(thin, "ThinLayerFallback"), 0)
+        # Cells as wide as the layers one to two finest edges thick: more triangles, and no
+        # bound lost.
+        self.assertGreater(thin.GetNumberOfCells(), 1.03 * default.GetNumberOfCells())
+        self.assertGreaterEqual(field(thin, "MinimumAngle"), 29.95)
+        self.assertLessEqual(field(thin, "MaximumAngle"), 130.0)
+        self.assertLessEqual(field(thin, "MaxRegionAreaError"), 0.005)
+        self.assertTrue((signed_areas(thin) > 0).all())
 
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
