@@ -44,6 +44,7 @@ vtkPhysicalCompressionTriangulator::vtkPhysicalCompressionTriangulator()
   this->MinimumAngle = strata::RefinementParams().minimumAngle;
   this->CurveRecovery = strata::MesherParams().curveRecovery;
   this->KeepSharpCorners = strata::MesherParams().keepSharpCorners;
+  this->ThinLayerRetry = strata::MesherParams().thinLayerRetry;
 }
 
 vtkPhysicalCompressionTriangulator::~vtkPhysicalCompressionTriangulator() = default;
@@ -156,6 +157,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   params.refinement.minimumAngle = this->MinimumAngle;
   params.curveRecovery = this->CurveRecovery != 0;
   params.keepSharpCorners = this->KeepSharpCorners != 0;
+  params.thinLayerRetry = this->ThinLayerRetry != 0;
 
   strata::MesherResult result;
   try
@@ -227,10 +229,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
     vtkStrataMeshOutput::AddField(
       fd, "KeptCornerTriangles", static_cast<int>(s.keptCornerTriangles));
   }
-  if (params.grid.thinLayerRefinement)
-  {
-    vtkStrataMeshOutput::AddField(fd, "ThinLayerFallback", s.thinLayerFallback ? 1 : 0);
-  }
+  vtkStrataMeshOutput::AddField(fd, "ThinLayerMesh", s.thinLayerMesh ? 1 : 0);
   auto unresolved = vtkSmartPointer<vtkIntArray>::New();
   unresolved->SetName("UnresolvedRegions");
   for (int id : result.unresolvedRegions)
@@ -283,4 +282,5 @@ void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent
   os << indent << "MinimumAngle: " << this->MinimumAngle << "\n";
   os << indent << "CurveRecovery: " << this->CurveRecovery << "\n";
   os << indent << "KeepSharpCorners: " << this->KeepSharpCorners << "\n";
+  os << indent << "ThinLayerRetry: " << this->ThinLayerRetry << "\n";
 }

@@ -231,7 +231,7 @@ bool vtkStrataMeshAlgorithm::FillGridParams(vtkDataSet* target, strata::Grid48Pa
   params.tolerance = this->Tolerance;
   params.maxEdgeLength = this->MaximumEdgeLength;
   params.minEdgeLength = this->MinimumEdgeLength;
-  params.thinLayerRefinement = this->ThinLayerRefinement;
+  params.thinLayerRefinement = this->ThinLayerRefinement != 0;
   params.targetEdgeLength = nullptr;
   params.targetEdgeLengthId = 0;
   if (!target)
@@ -369,7 +369,7 @@ void vtkStrataMeshAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "MaximumEdgeLength: " << this->MaximumEdgeLength << "\n";
   os << indent << "MinimumEdgeLength: " << this->MinimumEdgeLength << "\n";
-  os << indent << "ThinLayerRefinement: " << (this->ThinLayerRefinement ? "On" : "Off") << "\n";
+  os << indent << "ThinLayerRefinement: " << this->ThinLayerRefinement << "\n";
   os << indent << "TargetEdgeLength input: "
      << (this->GetNumberOfInputConnections(1) > 0 ? "connected" : "(none)") << "\n";
   os << indent << "TargetEdgeLengthArray: "

@@ -133,14 +133,14 @@ public:
    * keeps it. Curves meeting at a junction at 30 degrees or more are not a layer; a
    * pinch-out's tip, thinner than the finest edge, is not refined. Physical Compression
    * Triangulation keeps the mesh made with it only when it meets MinimumAngle and the 0.5%
-   * region area bound; otherwise it also meshes without it, keeps the better of the two and
-   * says so in a warning and the ThinLayerFallback field. On random faulted sections it
-   * brings the boundary within half the local edge on 32 of 48 models instead of 9; the
-   * README gives its costs.
+   * region area bound; otherwise it also meshes without it and keeps the better of the two
+   * (field `ThinLayerMesh`, a warning). Without it, that filter still uses it as a second try
+   * for a mesh that misses those bounds (its ThinLayerRetry, on by default). The README gives
+   * what it brings and costs.
    */
-  vtkSetMacro(ThinLayerRefinement, bool);
-  vtkGetMacro(ThinLayerRefinement, bool);
-  vtkBooleanMacro(ThinLayerRefinement, bool);
+  vtkSetMacro(ThinLayerRefinement, vtkTypeBool);
+  vtkGetMacro(ThinLayerRefinement, vtkTypeBool);
+  vtkBooleanMacro(ThinLayerRefinement, vtkTypeBool);
   ///@}
 
   ///@{
@@ -221,7 +221,7 @@ protected:
   double Tolerance = 0.0;
   double MaximumEdgeLength = 0.0;
   double MinimumEdgeLength = 0.0;
-  bool ThinLayerRefinement = false;
+  vtkTypeBool ThinLayerRefinement = 0;
   char* TargetEdgeLengthArray = nullptr;
   double TargetEdgeLengthGrading = 0.5;
 

@@ -21,10 +21,12 @@
 //                       Shared curves, summary (angles, boundary deviation both ways, its
 //                       distances through SegmentGrids first, region areas),
 //                       regions keeping less than half their area reported by id
-// With grid.thinLayerRefinement (opt-in), the whole pipeline runs with it; when that mesh
-// misses MinimumAngle (by more than 0.05 degrees, unless corners are kept) or the 0.5% area
-// bound, it runs again without it and keeps the better mesh (larger smallest angle, then
-// smaller area error), saying so in a warning and Summary::thinLayerFallback.
+// Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
+// MinimumAngle (by more than 0.05 degrees, unless corners are kept) or the 0.5% area bound is
+// made again the other way, with the grid's thin layer refinement if it was made without it
+// (the default: thinLayerRetry, with the optimization) and without it if it was made with it
+// (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger smallest angle, then
+// smaller area error); a warning and Summary::thinLayerMesh say which.
 // Nothing is kept between calls.
 #include "Mesher.h"
 
@@ -1400,37 +1402,41 @@ MesherResult triangulate(const RawPolylines& input,
   const ProgressCallback& callback)
 {
   const ProgressReporter progress(callback);
-  if (!params.grid.thinLayerRefinement)
+  const bool thinFirst = params.grid.thinLayerRefinement;
+  if (!thinFirst && !(params.thinLayerRetry && params.compression.optimize))
   {
     return triangulateOnce(input, params, progress);
   }
-  // The thin layer refinement changes the grid where layers are thinner than its cells; the
-  // compression then sometimes leaves vertices off the curves or a region short (a few models
-  // out of many, see README). Its mesh is kept when it meets the angle and area bounds;
-  // otherwise the mesh without it is made too and the better of the two kept: the larger
-  // smallest angle (up to MinimumAngle), then the smaller area error.
+  // The thin layer refinement changes the grid where layers are thinner than its cells: it
+  // mends meshes that miss the bounds there (a layer the compression tore, a region short of
+  // its area), and sometimes spoils one (the compression then leaves vertices off the curves
+  // near it). So a mesh made one way that misses the angle or area bound is made the other
+  // way too, and the second is kept only when it is better: the larger smallest angle (up to
+  // MinimumAngle), then the smaller area error.
   const Clock::time_point begin = Clock::now();
-  MesherResult thin = triangulateOnce(input, params, progress.sub(0.0, 0.6));
+  MesherResult first = triangulateOnce(input, params, progress.sub(0.0, 0.6));
+  first.summary.thinLayerMesh = thinFirst;
   const bool angles =
     params.compression.optimize && params.refinement.minimumAngle > 0.0 && !params.keepSharpCorners;
   const double target = params.refinement.minimumAngle - kRetryAngleSlack;
-  if (thin.summary.triangles == 0 ||
-    ((!angles || thin.summary.minAngle >= target) && thin.summary.maxRegionAreaError <= kAreaBound))
+  if (first.summary.triangles == 0 ||
+    ((!angles || first.summary.minAngle >= target) &&
+      first.summary.maxRegionAreaError <= kAreaBound))
   {
     progress.report(1.0, "done");
-    return thin;
+    return first;
   }
-  MesherParams plainParams = params;
-  plainParams.grid.thinLayerRefinement = false;
-  MesherResult plain = triangulateOnce(input, plainParams, progress.sub(0.6, 1.0));
-  const double a1 = angles ? std::min(thin.summary.minAngle, target) : 0.0;
-  const double a0 = angles ? std::min(plain.summary.minAngle, target) : 0.0;
-  const bool keepThin = a1 > a0 + kRetryAngleSlack ||
-    (a1 >= a0 - kRetryAngleSlack &&
-      thin.summary.maxRegionAreaError < plain.summary.maxRegionAreaError);
-  MesherResult& kept = keepThin ? thin : plain;
-  const MesherResult& other = keepThin ? plain : thin;
-  kept.summary.thinLayerFallback = !keepThin;
+  MesherParams otherParams = params;
+  otherParams.grid.thinLayerRefinement = !thinFirst;
+  MesherResult second = triangulateOnce(input, otherParams, progress.sub(0.6, 1.0));
+  second.summary.thinLayerMesh = !thinFirst;
+  const double a1 = angles ? std::min(first.summary.minAngle, target) : 0.0;
+  const double a2 = angles ? std::min(second.summary.minAngle, target) : 0.0;
+  const bool keepSecond = a2 > a1 + kRetryAngleSlack ||
+    (a2 >= a1 - kRetryAngleSlack &&
+      second.summary.maxRegionAreaError < first.summary.maxRegionAreaError);
+  MesherResult& kept = keepSecond ? second : first;
+  const MesherResult& other = keepSecond ? first : second;
   const auto figures = [](const MesherResult& r)
   {
     char text[96];
@@ -1441,9 +1447,12 @@ MesherResult triangulate(const RawPolylines& input,
       100.0 * r.summary.maxRegionAreaError);
     return std::string(text);
   };
-  kept.warnings.push_back(std::string("ThinLayerRefinement: its mesh missed the bounds (") +
-    figures(thin) + "), so the mesh without it was made too (" + figures(plain) + "); " +
-    (keepThin ? "the thin layer mesh is kept" : "that one is kept"));
+  const char* with = "with ThinLayerRefinement";
+  const char* without = "without ThinLayerRefinement";
+  kept.warnings.push_back(std::string("the mesh ") + (thinFirst ? with : without) +
+    " missed the angle or area bound (" + figures(first) + "), so a mesh " +
+    (thinFirst ? without : with) + " was made too (" + figures(second) + "); the " +
+    (keepSecond ? "second" : "first") + " one is kept");
   kept.summary.secondsPerStage.insert(
     kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
   kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();

@@ -59,6 +59,15 @@ struct MesherParams
   /// Summary::keptCornerTriangles). Default off: such corners end where the layer is about one
   /// finest edge thick, and every triangle meets minimumAngle.
   bool keepSharpCorners = false;
+  /// Beyond the paper, with compression.optimize: when the mesh misses refinement.minimumAngle
+  /// (by more than 0.05 degrees; not checked with keepSharpCorners) or a region's area is off
+  /// by more than 0.5%, it is made again with grid.thinLayerRefinement (layers thinner than
+  /// the cells get cells as wide as they are) and the better of the two is kept: the larger
+  /// smallest angle (up to minimumAngle), then the smaller area error
+  /// (Summary::thinLayerMesh, a warning). Meshes that meet the bounds are made once, as
+  /// without it. With grid.thinLayerRefinement on, its mesh is the first one and the mesh
+  /// without it the second, whatever this says. Default on.
+  bool thinLayerRetry = true;
 };
 
 /// The triangulation of a model, everything in local coordinates (add `origin`).
@@ -150,9 +159,10 @@ struct MesherResult
     /// could not mend): what keeping the corners costs. Some also count in
     /// trianglesAtSharpCorners.
     std::size_t keptCornerTriangles = 0;
-    /// With grid.thinLayerRefinement: true when its mesh missed the angle or area bound and
-    /// the mesh made without it was kept instead (a warning gives both meshes' figures).
-    bool thinLayerFallback = false;
+    /// Whether the mesh was made with the grid's thin layer refinement: grid.thinLayerRefinement
+    /// and its mesh kept, or thinLayerRetry's second mesh kept (a warning then gives both
+    /// meshes' figures, and secondsPerStage starts with the discarded run's "discarded run").
+    bool thinLayerMesh = false;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;

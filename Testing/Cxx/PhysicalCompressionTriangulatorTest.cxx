@@ -97,7 +97,7 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }
   EXPECT_EQ(fd->GetArray("KeptCorners"), nullptr) << "only with KeepSharpCorners";
-  EXPECT_EQ(fd->GetArray("ThinLayerFallback"), nullptr) << "only with ThinLayerRefinement";
+  ASSERT_NE(fd->GetArray("ThinLayerMesh"), nullptr);
   EXPECT_EQ(fd->GetArray("NumberOfTriangles")->GetTuple1(0), mesh->GetNumberOfCells());
   EXPECT_DOUBLE_EQ(fd->GetArray("MinimumAngle")->GetTuple1(0), smallest);
 }
@@ -151,16 +151,18 @@ TEST(PhysicalCompressionTriangulatorTest, keep_sharp_corners_meshes_the_pinch_ou
 }
 
 // faulted_thin_layers with ThinLayerRefinement: more triangles (cells as wide as its thin
-// layers), the bounds kept, no fallback (field ThinLayerFallback 0), no warning; the property
-// is printed.
+// layers), the bounds kept, its mesh kept (field ThinLayerMesh 1), no warning; the properties
+// are printed.
 TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says_which_mesh_is_kept)
 {
   auto reader = Reader("faulted_thin_layers.vtp");
   vtkNew<vtkPhysicalCompressionTriangulator> mesher;
   mesher->SetInputConnection(reader->GetOutputPort());
   EXPECT_FALSE(mesher->GetThinLayerRefinement());
+  EXPECT_TRUE(mesher->GetThinLayerRetry());
   mesher->Update();
   const vtkIdType plain = mesher->GetOutput()->GetNumberOfCells();
+  EXPECT_EQ(mesher->GetOutput()->GetFieldData()->GetArray("ThinLayerMesh")->GetTuple1(0), 0.0);
   mesher->ThinLayerRefinementOn();
   auto log = Watch(mesher);
   mesher->Update();
@@ -169,8 +171,8 @@ TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says
   vtkUnstructuredGrid* mesh = mesher->GetOutput();
   EXPECT_GT(mesh->GetNumberOfCells(), plain);
   vtkFieldData* fd = mesh->GetFieldData();
-  ASSERT_NE(fd->GetArray("ThinLayerFallback"), nullptr);
-  EXPECT_EQ(fd->GetArray("ThinLayerFallback")->GetTuple1(0), 0.0);
+  ASSERT_NE(fd->GetArray("ThinLayerMesh"), nullptr);
+  EXPECT_EQ(fd->GetArray("ThinLayerMesh")->GetTuple1(0), 1.0);
   EXPECT_GE(fd->GetArray("MinimumAngle")->GetTuple1(0), 29.95);
   EXPECT_LE(fd->GetArray("MaxRegionAreaError")->GetTuple1(0), 0.005);
   for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
@@ -179,7 +181,8 @@ TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says
   }
   std::ostringstream printed;
   mesher->Print(printed);
-  EXPECT_NE(printed.str().find("ThinLayerRefinement: On"), std::string::npos);
+  EXPECT_NE(printed.str().find("ThinLayerRefinement: 1"), std::string::npos);
+  EXPECT_NE(printed.str().find("ThinLayerRetry: 1"), std::string::npos);
 }
 
 TEST(PhysicalCompressionTriangulatorTest, boundary_output_is_a_shared_curves_model_of_the_mesh)

@@ -6,7 +6,7 @@
 // point arrays VertexClass (Int8) and Displacement (Float64, 3 components). Prints the summary
 // as JSON on stdout. Options (defaults are the library's):
 //   --max-level N --local-max-level N --tolerance X --max-edge-length X --min-edge-length X
-//   --thin-layers (ThinLayerRefinement)
+//   --thin-layers (ThinLayerRefinement) --no-thin-layer-retry (ThinLayerRetry off)
 //   --spring edge|projection --stiffness X --damping X --time-step X --max-iterations N
 //   --push all|oneside|closest --push-velocity X --feature-angle DEG --no-flip
 //   --no-optimize --passes N --rings N --boundary-tolerance X --minimum-angle DEG
@@ -182,6 +182,8 @@ int main(int argc, char** argv)
       p.grid.tolerance = std::atof(next());
     else if (a == "--thin-layers")
       p.grid.thinLayerRefinement = true;
+    else if (a == "--no-thin-layer-retry")
+      p.thinLayerRetry = false;
     else if (a == "--max-edge-length")
       p.grid.maxEdgeLength = std::atof(next());
     else if (a == "--min-edge-length")
@@ -250,7 +252,7 @@ int main(int argc, char** argv)
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
                 " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
                 " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n"
-                " \"thin_layer_fallback\": %s,\n",
+                " \"thin_layer_mesh\": %s,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -270,7 +272,7 @@ int main(int argc, char** argv)
       s.sharpCorners,
       r.keptCorners.size(),
       s.keptCornerTriangles,
-      s.thinLayerFallback ? "true" : "false");
+      s.thinLayerMesh ? "true" : "false");
     std::printf(" \"kept_corner_list\": [");
     for (std::size_t i = 0; i < r.keptCorners.size(); ++i)
     {
