@@ -693,22 +693,34 @@ BoundaryIndex::TriangleResult BoundaryIndex::testTriangle(Vec2 a,
   return SomethingInside;
 }
 
-bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+template<typename Visit>
+bool BoundaryIndex::anySegment(double x0, double y0, double x1, double y1, Visit&& visit)
 {
-  // The segments meeting the triangle, as in testTriangle.
-  const int x0 = cellX(std::min({ a.x, b.x, c.x }));
-  const int x1 = cellX(std::max({ a.x, b.x, c.x }));
-  const int y0 = cellY(std::min({ a.y, b.y, c.y }));
-  const int y1 = cellY(std::max({ a.y, b.y, c.y }));
+  const int cx0 = cellX(x0);
+  const int cx1 = cellX(x1);
+  const int cy0 = cellY(y0);
+  const int cy1 = cellY(y1);
+  if (cx0 == cx1 && cy0 == cy1)
+  {
+    // One cell (the common case for small queries): no duplicates, no stamps.
+    const std::size_t cell = static_cast<std::size_t>(cy0) * this->Cells + cx0;
+    for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
+    {
+      if (visit(this->SegItems[k]))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
   if (++this->CurrentStamp == 0)
   {
     std::fill(this->Stamp.begin(), this->Stamp.end(), 0);
     this->CurrentStamp = 1;
   }
-  this->Hits.clear();
-  for (int y = y0; y <= y1; ++y)
+  for (int y = cy0; y <= cy1; ++y)
   {
-    for (int x = x0; x <= x1; ++x)
+    for (int x = cx0; x <= cx1; ++x)
     {
       const std::size_t cell = static_cast<std::size_t>(y) * this->Cells + x;
       for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
@@ -717,14 +729,33 @@ bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double th
         if (this->Stamp[s] != this->CurrentStamp)
         {
           this->Stamp[s] = this->CurrentStamp;
-          if (segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+          if (visit(s))
           {
-            this->Hits.push_back(s);
+            return true;
           }
         }
       }
     }
   }
+  return false;
+}
+
+bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+{
+  // The segments meeting the triangle.
+  this->Hits.clear();
+  this->anySegment(std::min({ a.x, b.x, c.x }),
+    std::min({ a.y, b.y, c.y }),
+    std::max({ a.x, b.x, c.x }),
+    std::max({ a.y, b.y, c.y }),
+    [&](int s)
+    {
+      if (segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+      {
+        this->Hits.push_back(s);
+      }
+      return false;
+    });
   if (this->Hits.size() < 2)
   {
     return false;
@@ -829,53 +860,6 @@ bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double th
       if (thickness >= thinnest && thickness < thickest)
       {
         return true;
-      }
-    }
-  }
-  return false;
-}
-
-template<typename Visit>
-bool BoundaryIndex::anySegment(double x0, double y0, double x1, double y1, Visit&& visit)
-{
-  const int cx0 = cellX(x0);
-  const int cx1 = cellX(x1);
-  const int cy0 = cellY(y0);
-  const int cy1 = cellY(y1);
-  if (cx0 == cx1 && cy0 == cy1)
-  {
-    // One cell (the common case for small queries): no duplicates, no stamps.
-    const std::size_t cell = static_cast<std::size_t>(cy0) * this->Cells + cx0;
-    for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
-    {
-      if (visit(this->SegItems[k]))
-      {
-        return true;
-      }
-    }
-    return false;
-  }
-  if (++this->CurrentStamp == 0)
-  {
-    std::fill(this->Stamp.begin(), this->Stamp.end(), 0);
-    this->CurrentStamp = 1;
-  }
-  for (int y = cy0; y <= cy1; ++y)
-  {
-    for (int x = cx0; x <= cx1; ++x)
-    {
-      const std::size_t cell = static_cast<std::size_t>(y) * this->Cells + x;
-      for (int k = this->SegStart[cell]; k < this->SegStart[cell + 1]; ++k)
-      {
-        const int s = this->SegItems[k];
-        if (this->Stamp[s] != this->CurrentStamp)
-        {
-          this->Stamp[s] = this->CurrentStamp;
-          if (visit(s))
-          {
-            return true;
-          }
-        }
       }
     }
   }
