@@ -271,12 +271,13 @@ public:
 
   ///@{
   /**
-   * Beyond the paper, with Optimization (default on): a mesh that misses MinimumAngle (by more
-   * than 0.05 degrees; not checked with KeepSharpCorners) or has a region's area off by more
-   * than 0.5% is made again with ThinLayerRefinement, and the better of the two is kept (the
-   * larger smallest angle up to MinimumAngle, then the smaller area error); field
-   * `ThinLayerMesh` says whether the mesh kept was made with it, a warning gives both meshes'
-   * figures. A mesh that meets the bounds is made once. Off: one mesh, as made.
+   * Beyond the paper, with Optimization (default on): a mesh whose smallest angle is below
+   * min(MinimumAngle, 30) by more than 0.05 degrees (not checked with KeepSharpCorners), or
+   * whose region areas are off by more than 0.5%, is made again with ThinLayerRefinement, and
+   * the better of the two is kept (the larger smallest angle up to that bound, then the
+   * smaller area error); field `ThinLayerMesh` says whether the mesh kept was made with it, a
+   * warning gives both meshes' figures. A mesh that meets the bounds is made once. Off: one
+   * mesh, as made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

@@ -22,7 +22,8 @@
 //                       distances through SegmentGrids first, region areas),
 //                       regions keeping less than half their area reported by id
 // Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
-// MinimumAngle (by more than 0.05 degrees, unless corners are kept) or the 0.5% area bound is
+// min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept) or the 0.5% area
+// bound is
 // made again the other way, with the grid's thin layer refinement if it was made without it
 // (the default: thinLayerRetry, with the optimization) and without it if it was made with it
 // (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger smallest angle, then
@@ -254,6 +255,9 @@ constexpr double kRetryAngleSlack = 0.05;
 constexpr double kAreaBound = 0.005;
 constexpr double kRetryAngleTrade = 5.0;
 constexpr double kRetryMarginScale = 0.5;
+// ThinLayerRetry: a first mesh below min(MinimumAngle, this) - kRetryAngleSlack degrees, or
+// with a region's area off by more than kAreaBound, is made again (see triangulate()).
+constexpr double kThinLayerRetryAngle = 30.0;
 
 // The segment of chain c within `tolerance` of p, walked to from segment `start` (dir +1
 // forward, -1 backward) over at most `reach` of arc length, or -1; `walked` is the length
@@ -1418,7 +1422,10 @@ MesherResult triangulate(const RawPolylines& input,
   first.summary.thinLayerMesh = thinFirst;
   const bool angles =
     params.compression.optimize && params.refinement.minimumAngle > 0.0 && !params.keepSharpCorners;
-  const double target = params.refinement.minimumAngle - kRetryAngleSlack;
+  // Above 30 degrees (issue 5's goal) the Delaunay refinement stops short of MinimumAngle on
+  // most models whatever the grid: only the goal is asked of the first mesh.
+  const double target =
+    std::min(params.refinement.minimumAngle, kThinLayerRetryAngle) - kRetryAngleSlack;
   if (first.summary.triangles == 0 ||
     ((!angles || first.summary.minAngle >= target) &&
       first.summary.maxRegionAreaError <= kAreaBound))

@@ -59,14 +59,14 @@ struct MesherParams
   /// Summary::keptCornerTriangles). Default off: such corners end where the layer is about one
   /// finest edge thick, and every triangle meets minimumAngle.
   bool keepSharpCorners = false;
-  /// Beyond the paper, with compression.optimize: when the mesh misses refinement.minimumAngle
-  /// (by more than 0.05 degrees; not checked with keepSharpCorners) or a region's area is off
-  /// by more than 0.5%, it is made again with grid.thinLayerRefinement (layers thinner than
-  /// the cells get cells as wide as they are) and the better of the two is kept: the larger
-  /// smallest angle (up to minimumAngle), then the smaller area error
-  /// (Summary::thinLayerMesh, a warning). Meshes that meet the bounds are made once, as
-  /// without it. With grid.thinLayerRefinement on, its mesh is the first one and the mesh
-  /// without it the second, whatever this says. Default on.
+  /// Beyond the paper, with compression.optimize: when the mesh's smallest angle is below
+  /// min(refinement.minimumAngle, 30) by more than 0.05 degrees (not checked with
+  /// keepSharpCorners), or a region's area is off by more than 0.5%, it is made again with
+  /// grid.thinLayerRefinement (layers thinner than the cells get cells as wide as they are)
+  /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
+  /// smaller area error (Summary::thinLayerMesh, a warning). Meshes that meet the bounds are
+  /// made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
+  /// the mesh without it the second, whatever this says. Default on.
   bool thinLayerRetry = true;
 };
 
