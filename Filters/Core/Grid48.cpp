@@ -94,8 +94,8 @@
 //      the layer's thickness; beyond it, (g) goes on while the layer is thinner than the
 //      cells, so the compression finds grid vertices inside it: a layer one to sixteen finest
 //      edges thick is kept instead of being cut where the recovery's probes no longer fit
-//      (random faulted sections: the boundary within half the local edge on 32 of 48 instead
-//      of 9). Two curves meeting at a common end within twice T's longest edge at 30 degrees
+//      (random faulted sections: the boundary within half the local edge on 31 of 48 instead
+//      of 12). Two curves meeting at a common end within twice T's longest edge at 30 degrees
 //      or more are a junction, not a layer; a pinch-out's tip is not split (the thickness
 //      there goes to 0), so it ends in cells the tip cutting of the refinement can handle.
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
@@ -761,8 +761,8 @@ bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double th
     return false;
   }
   // Strands: runs of consecutive segments of one curve joined at a node inside the triangle
-  // (a closed curve's strand through its start is counted as two: its thickness to itself
-  // is then measured too, which only matters for a fold, itself a thin layer).
+  // (a closed curve's strand through its start counts as two, which meet at that node: their
+  // thickness is 0, never a layer).
   std::sort(this->Hits.begin(), this->Hits.end());
   this->StrandEnd.clear();
   const std::size_t n = this->Hits.size();
