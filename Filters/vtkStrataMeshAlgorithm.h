@@ -132,11 +132,11 @@ public:
    * (the finest edge), so that the compression gets cells about as wide as the layer and
    * keeps it. Curves meeting at a junction at 30 degrees or more are not a layer; a
    * pinch-out's tip, thinner than the finest edge, is not refined. Physical Compression
-   * Triangulation keeps the mesh made with it only when it meets MinimumAngle and the 0.5%
-   * region area bound; otherwise it also meshes without it and keeps the better of the two
-   * (field `ThinLayerMesh`, a warning). Without it, that filter still uses it as a second try
-   * for a mesh that misses those bounds (its ThinLayerRetry, on by default). The README gives
-   * what it brings and costs.
+   * Triangulation keeps the mesh made with it only when it meets MinimumAngle (30 at most)
+   * and the 0.5% region area bound; otherwise it also meshes without it and keeps the better
+   * of the two (field `ThinLayerMesh`, a warning). Without it, that filter still uses it as a
+   * second try for a mesh that misses those bounds (its ThinLayerRetry, on by default). The
+   * README gives what it brings and costs.
    */
   vtkSetMacro(ThinLayerRefinement, vtkTypeBool);
   vtkGetMacro(ThinLayerRefinement, vtkTypeBool);
