@@ -20,6 +20,17 @@ namespace
 {
 using strata::Vec2;
 
+// A result's warnings, one per line (to search, and to print when an expectation fails).
+std::string allWarnings(const strata::MesherResult& r)
+{
+  std::string all;
+  for (const std::string& w : r.warnings)
+  {
+    all += w + "\n";
+  }
+  return all;
+}
+
 struct Case
 {
   const char* file;
@@ -360,11 +371,7 @@ TEST(MesherTest, UnresolvedRegionsAreReportedById)
   const strata::MesherResult thin =
     strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("thin_layer.vtp")), coarse);
   ASSERT_FALSE(thin.unresolvedRegions.empty());
-  std::string warnings;
-  for (const std::string& w : thin.warnings)
-  {
-    warnings += w + "\n";
-  }
+  const std::string warnings = allWarnings(thin);
   for (const auto& ra : thin.regionAreas)
   {
     const bool listed =
@@ -750,11 +757,7 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   EXPECT_EQ(thin.triangles, plain.triangles);
   EXPECT_EQ(thin.points, plain.points);
   EXPECT_EQ(thin.summary.minAngle, plain.summary.minAngle);
-  std::string all;
-  for (const std::string& w : thin.warnings)
-  {
-    all += w + "\n";
-  }
+  const std::string all = allWarnings(thin);
   EXPECT_NE(
     all.find("the mesh with ThinLayerRefinement missed the angle or area bound"), std::string::npos)
     << all;
@@ -783,11 +786,7 @@ TEST(MesherTest, ThinLayerRetryMendsAMeshThatMissesTheBounds)
   EXPECT_GE(retried.summary.minAngle, p.refinement.minimumAngle - 0.05);
   EXPECT_LE(retried.summary.maxRegionAreaError, 0.005);
   EXPECT_EQ(retried.summary.secondsPerStage.front().first, "discarded run");
-  std::string all;
-  for (const std::string& w : retried.warnings)
-  {
-    all += w + "\n";
-  }
+  const std::string all = allWarnings(retried);
   EXPECT_NE(all.find("the mesh without ThinLayerRefinement missed"), std::string::npos) << all;
 
   const strata::RawPolylines salt =
@@ -811,13 +810,8 @@ TEST(MesherTest, RegionAreasMoreThanTenPercentOffAreWarned)
   {
     strata::MesherParams p;
     p.curveRecovery = false;
-    std::string all;
-    for (const std::string& w :
-      strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath(file)), p).warnings)
-    {
-      all += w + "\n";
-    }
-    return all;
+    return allWarnings(
+      strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath(file)), p));
   };
   const std::string countries = warnings("countries_westeurope.vtp");
   EXPECT_NE(countries.find("more than 10% off"), std::string::npos) << countries;
