@@ -54,6 +54,13 @@
 //    0.45 of both edges and the tip's area at most 0.05% of the region's; the tip is then a
 //    small triangle given away as above (a fault block's layer pinching out at 15 degrees in
 //    a triangle longer than 16 finest edges; Marmousi 26.6 -> 30.0 degrees).
+//    Neither is done to a spike of the mesh's own (with RefinementParams::sharpModelCorner):
+//    a sharp corner between two triangles of one other region (or the outer border), with no
+//    corner of its region in the model sharper than the bound (plus a margin) within 4 times
+//    the triangle's longest edge. Its region is wider there in the model (a country's
+//    peninsula whose tip, 38 degrees, the coarse mesh reaches with a chord from a vertex
+//    short of it); giving the triangle away would cut the peninsula back by whole triangles,
+//    so the refinement of 3 splits its sides on their curves instead.
 //    Before the corners, a piece of a region (triangles joined across unconstrained edges)
 //    thinner than half minimumEdgeLength everywhere (every inradius below a quarter of it),
 //    whose area is at most 0.05% of its region's, goes whole to the neighbouring region it
@@ -71,7 +78,9 @@
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
-//      pq is shorter than half minimumEdgeLength, it is left (counted at the end);
+//      pq is shorter than half minimumEdgeLength, it is left (counted at the end), unless
+//      that corner is a spike of the mesh's own (2c): then the longer of its two sides is
+//      split at the point the BoundarySplitter gives, and the triangle queued again;
 //    - the point to insert is its circumcentre, or, when that lies farther from pq, the
 //      off-centre: the point on pq's bisector whose triangle with pq has an apex angle
 //      slightly above minimumAngle (fewer, better graded vertices than circumcentres);
@@ -191,6 +200,8 @@ constexpr int kBoldRuns = 3;             // bold runs at most
 constexpr double kDissolveLength = 16.0; // corners dissolved in triangles up to this long
                                          // (relative to minimumEdgeLength)
 constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at most
+constexpr double kSpikeReach = 4.0;      // 2c: a model corner this many longest edges away
+                                         // from a spike makes it the model's
 constexpr double kTipCut = 1.5;          // 2c: a cut tip's far edge, in minimumEdgeLength
 constexpr double kFlat = 1e-4;           // 7: no flip makes a triangle with a smaller sine
 constexpr double kSnap = 1e-3;           // 7: a side crossing an edge this close (relative) to an
@@ -481,6 +492,7 @@ private:
     }
   }
   double cornerAngle(int t) const;
+  bool meshSpike(int t) const;
   bool inKept(int t) const;
   bool inKept(const std::array<int, 3>& tri, int region) const;
   bool keptShapes(const std::vector<int>& tris) const;
@@ -1412,6 +1424,42 @@ double Refiner::cornerAngle(int t) const
   return angle;
 }
 
+// Whether t's sharpest region corner is a spike of its region between two triangles of one
+// other region (or the outer border) with no corner of the model's region sharper than the
+// bound within kSpikeReach times t's longest edge of it (RefinementParams::sharpModelCorner): the
+// mesh's doing.
+bool Refiner::meshSpike(int t) const
+{
+  if (!this->P.sharpModelCorner)
+  {
+    return false;
+  }
+  const auto& tri = this->M.triangles[t];
+  const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
+  const auto angles = triangleAngles(p[0], p[1], p[2]);
+  int k = -1;
+  for (int j = 0; j < 3; ++j)
+  {
+    if (this->constrained(t, j) && this->constrained(t, (j + 2) % 3) &&
+      (k < 0 || angles[j] < angles[k]))
+    {
+      k = j;
+    }
+  }
+  if (k < 0)
+  {
+    return false;
+  }
+  const int n1 = this->Nbr[t][k], n2 = this->Nbr[t][(k + 2) % 3];
+  if ((n1 >= 0 ? this->M.region[n1] : -1) != (n2 >= 0 ? this->M.region[n2] : -1))
+  {
+    return false;
+  }
+  const double longest =
+    std::sqrt(std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }));
+  return !this->P.sharpModelCorner(this->M.region[t], p[k], kSpikeReach * longest);
+}
+
 std::size_t Refiner::dissolveCorners()
 {
   if (!this->P.regionAt || !this->P.onCurve || !(this->P.minimumAngle > 0.0))
@@ -1497,7 +1545,8 @@ std::size_t Refiner::dissolveCorners()
         (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
       const bool longer =
         !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
-      if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])))
+      if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
+        (!speck && this->meshSpike(t)))
       {
         continue;
       }
@@ -1672,7 +1721,8 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
     const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
     if (region < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle ||
       std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
-      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region))
+      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region) ||
+      this->meshSpike(t))
     {
       continue; // 2c gives it away whole, or it has no sharp corner
     }
@@ -1915,11 +1965,22 @@ RefinementResult Refiner::run()
       break;
     }
     const int corner = this->smallestCorner(t);
+    const auto& tri = this->M.triangles[t];
     if (this->constrained(t, corner) && this->constrained(t, (corner + 2) % 3))
     {
-      continue; // a corner of the region: no interior point widens it
+      // A corner of the region: no interior point widens it. A spike of the mesh's own has
+      // its longer side split on its curve (toward the model's wider corner).
+      const int before = (corner + 2) % 3;
+      const int side = norm2(this->X(tri[(corner + 1) % 3]) - this->X(tri[corner])) >=
+          norm2(this->X(tri[before]) - this->X(tri[corner]))
+        ? corner
+        : before;
+      if (this->meshSpike(t) && this->splitBoundary(t, side))
+      {
+        this->Queue.push_back(t);
+      }
+      continue;
     }
-    const auto& tri = this->M.triangles[t];
     const Vec2 p = this->X(tri[(corner + 1) % 3]), q = this->X(tri[(corner + 2) % 3]);
     const double l = norm(q - p);
     if (l < kFloor * this->P.minimumEdgeLength)

@@ -71,6 +71,13 @@ struct RefinementParams
   /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
   std::function<double(Vec2 p, double within)> curveDistance;
+  /// Optional, with the curve recovery: whether the model has a corner of region `region`
+  /// sharper than about minimumAngle within `radius` of p. Where it has none, a sharp corner
+  /// of a region's triangle between two triangles of one other region (or the outer border)
+  /// is a spike of the mesh, not of the model (a peninsula's tip or a lens's end whose
+  /// vertices do not reach its apex): 2c leaves it to the refinement instead of giving the
+  /// triangle away. Empty: every such corner may be given away.
+  std::function<bool(int region, Vec2 p, double radius)> sharpModelCorner;
   /// Optional curve fidelity, after the curve recovery's insertions (the mesher sets it with
   /// the recovery): for a region boundary edge from a to b (region `left` on its left,
   /// `right` on its right, -1 the outer border), returns true with the area between the edge

@@ -12,8 +12,9 @@
 //                       MinimumAngle, boundary edges split at the point of their curve
 //                       nearest their middle, with the curve recovery's callbacks (region
 //                       at a point by the nearest curve's side, curve points that keep
-//                       layers thinner than two margins out, model corners first) and the
-//                       smoothing's (slides);
+//                       layers thinner than two margins out, model corners first; whether
+//                       the model has a region corner sharper than MinimumAngle + 5 degrees
+//                       near a point) and the smoothing's (slides);
 //                       their curve queries go through a SegmentGrid (StripTree.h) of cells
 //                       half the median longest edge wide, the strip tree where it cannot tell
 //   output              exterior triangles dropped, points compacted, quality per triangle,
@@ -184,6 +185,7 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
   return corners;
 }
 
+constexpr double kModelCornerMargin = 5.0; // degrees above MinimumAngle: a sharp model corner
 constexpr double kSnapFloor = 5.0; // degrees: a snap leaves no smaller angle (unless one was)
 
 // Vertices of the region boundary (an edge between triangles of different regions, -1 the
@@ -568,6 +570,45 @@ void refineCompressed(CompressionResult& compressed,
     at = rails.position(rails.slide(l, dot(toward - from, rails.tangent(l))).location);
     return true;
   };
+  // The model's region corners sharper than the bound (by less than kModelCornerMargin
+  // degrees above it), sorted by x: where a region has none near a sharp spike of its mesh,
+  // the spike is the mesh's (DelaunayRefinement.cpp, 2c).
+  std::vector<std::pair<Vec2, int>> modelCorners;
+  if (params.curveRecovery && rp.minimumAngle > 0.0)
+  {
+    for (const Region& region : model.regions)
+    {
+      for (const Ring& ring : region.rings)
+      {
+        for (std::size_t i = 0; i < ring.points.size() && ring.points.size() >= 3; ++i)
+        {
+          if (ringAngle(ring, i) < rp.minimumAngle + kModelCornerMargin)
+          {
+            modelCorners.emplace_back(ring.points[i], region.id);
+          }
+        }
+      }
+    }
+    std::sort(modelCorners.begin(),
+      modelCorners.end(),
+      [](const std::pair<Vec2, int>& a, const std::pair<Vec2, int>& b)
+      { return a.first.x < b.first.x; });
+    rp.sharpModelCorner = [&](int region, Vec2 p, double radius)
+    {
+      auto it = std::lower_bound(modelCorners.begin(),
+        modelCorners.end(),
+        p.x - radius,
+        [](const std::pair<Vec2, int>& c, double x) { return c.first.x < x; });
+      for (; it != modelCorners.end() && it->first.x <= p.x + radius; ++it)
+      {
+        if (it->second == region && norm2(it->first - p) <= radius * radius)
+        {
+          return true;
+        }
+      }
+      return false;
+    };
+  }
   if (params.curveRecovery)
   {
     rp.regionAt = regionOf;

@@ -403,6 +403,121 @@ TEST(DelaunayRefinementTest, SharpRegionCornersInSmallTrianglesAreDissolved)
   EXPECT_NEAR(regionAreas(alone).at(1), 5.0 * tip, 1e-9);
 }
 
+// A region's 20-degree spike between two triangles of one other region, (0, 0) (10, -1.76)
+// (10, 1.76), where the model's region (a strip 3.5 wide whose end is a 60-degree wedge with its
+// apex at (0, 0)) is wider than the mesh: the spike is the mesh's doing. When sharpModelCorner
+// says the model has no sharp corner there, the spike is not given away: its sides are split on
+// the model's curves until the region reaches the bound with its apex kept. When it says the
+// model has one (a real wedge), the spike is given away as before.
+TEST(DelaunayRefinementTest, ASpikeOfTheMeshNotOfTheModelIsWidenedNotGivenAway)
+{
+  const double h = 10.0 * std::tan(10.0 * kPi / 180.0);
+  const double bend = h / std::tan(30.0 * kPi / 180.0); // where the wedge meets the strip
+  const auto spike = [&]()
+  {
+    RegionMesh m;
+    m.points = { { 0, 0 },
+      { 10, -h },
+      { 10, h },
+      { 20, -h },
+      { 20, h },
+      { 0, -10 },
+      { 20, -10 },
+      { 20, 10 },
+      { 0, 10 } };
+    m.triangles = { { 0, 1, 2 },
+      { 1, 3, 4 },
+      { 1, 4, 2 },
+      { 0, 5, 1 },
+      { 5, 6, 1 },
+      { 1, 6, 3 },
+      { 0, 2, 8 },
+      { 2, 7, 8 },
+      { 2, 4, 7 } };
+    m.region = { 1, 1, 1, 0, 0, 0, 0, 0, 0 };
+    m.level.assign(m.triangles.size(), 0);
+    return m;
+  };
+  // The model's curves: region 1's outline and the frame.
+  const std::vector<std::array<Vec2, 2>> curves = { { Vec2{ 0, 0 }, Vec2{ bend, h } },
+    { Vec2{ bend, h }, Vec2{ 20, h } },
+    { Vec2{ 0, 0 }, Vec2{ bend, -h } },
+    { Vec2{ bend, -h }, Vec2{ 20, -h } },
+    { Vec2{ 0, -10 }, Vec2{ 20, -10 } },
+    { Vec2{ 20, -10 }, Vec2{ 20, 10 } },
+    { Vec2{ 20, 10 }, Vec2{ 0, 10 } },
+    { Vec2{ 0, 10 }, Vec2{ 0, -10 } } };
+  const auto nearest = [&](Vec2 q)
+  {
+    Vec2 best = q;
+    double d = 1e300;
+    for (const auto& c : curves)
+    {
+      const Vec2 e = c[1] - c[0];
+      const double t = std::clamp(strata::dot(q - c[0], e) / strata::norm2(e), 0.0, 1.0);
+      const Vec2 x = c[0] + t * e;
+      if (strata::norm(x - q) < d)
+      {
+        d = strata::norm(x - q);
+        best = x;
+      }
+    }
+    return best;
+  };
+  const strata::BoundarySplitter onModel = [&](Vec2 a, Vec2 b, int, int, Vec2& at)
+  {
+    at = nearest(0.5 * (a + b));
+    return true;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 1.0;
+  p.onCurve = [&](Vec2 q) { return strata::norm(nearest(q) - q) < 1e-9; };
+  p.regionAt = [&](Vec2 q)
+  { return q.x >= 0.0 && std::fabs(q.y) < std::min(h, q.x * std::tan(30.0 * kPi / 180.0)); };
+  const auto atApex = [](const RegionMesh& m)
+  {
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    {
+      const auto& tri = m.triangles[t];
+      if (m.region[t] == 1 && std::count(tri.begin(), tri.end(), 0) == 1)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  const auto regionMinimumAngle = [](const RegionMesh& m, int region)
+  {
+    double smallest = 180.0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    {
+      smallest = m.region[t] == region ? std::min(smallest, smallestAngle(m, t)) : smallest;
+    }
+    return smallest;
+  };
+
+  RefinementParams widen = p;
+  widen.sharpModelCorner = [](int, Vec2, double) { return false; };
+  RegionMesh m = spike();
+  const double before = regionAreas(m).at(1);
+  const RefinementResult r = strata::refineDelaunay(m, onModel, widen);
+  expectValid(m);
+  EXPECT_EQ(r.dissolvedCorners, 0u);
+  EXPECT_TRUE(atApex(m));
+  EXPECT_GT(regionAreas(m).at(1), before); // toward the model's wedge
+  EXPECT_GE(regionMinimumAngle(m, 1), 30.0);
+  EXPECT_EQ(r.badTrianglesAtCorners, 0u);
+
+  RefinementParams real = p;
+  real.sharpModelCorner = [](int region, Vec2 q, double radius)
+  { return region == 1 && strata::norm(q) <= radius; };
+  RegionMesh given = spike();
+  const RefinementResult g = strata::refineDelaunay(given, onModel, real);
+  expectValid(given);
+  EXPECT_GT(g.dissolvedCorners, 0u);
+  EXPECT_FALSE(atApex(given));
+}
+
 // The spike of the test above with minimumEdgeLength 0.5: 10 long, more than the 16 edges of
 // 0.5 up to which corners are dissolved, with a triangle below it, (0, 0) (5, -10) (10, 0).
 // It is dissolved all the same when its area is at most 0.05% of its region's (a second piece
