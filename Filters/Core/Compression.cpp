@@ -64,6 +64,7 @@
 #include "Compressor.h"
 
 #include "Errors.h"
+#include "Parallel.h"
 #include "Quality.h"
 
 #include <algorithm>
@@ -717,7 +718,8 @@ bool Compressor::isBorderVertex(int g) const
 }
 
 // Boundary distance of grid vertex g at its grid position (the grid's value when known).
-double Compressor::gridDistance(int g)
+// Caches it in Distance[g] (vertices of different ids may ask from different threads).
+double Compressor::gridDistance(int g, StripTreeScratch& rail)
 {
   double& d = this->Distance[g];
   if (std::isnan(d))
@@ -729,7 +731,7 @@ double Compressor::gridDistance(int g)
     }
     else
     {
-      this->Rails.closest(this->Grid.points[g], this->RailScratch, &d);
+      this->Rails.closest(this->Grid.points[g], rail, &d);
     }
   }
   return d;
@@ -1555,7 +1557,89 @@ std::size_t Compressor::pushNewCrossings()
 {
   const std::vector<Vec2>& x = this->Sys->positions();
   const std::size_t nv = x.size();
-  std::vector<int> region(nv, -3);
+  const auto crossable = [&](int a, int b)
+  {
+    const bool freeA = this->St[a] == Free, freeB = this->St[b] == Free;
+    return (freeA || freeB) && (freeA || this->St[a] == Halo) && (freeB || this->St[b] == Halo);
+  };
+  // The queries of the two loops below, independent of each other, first: the regions of the
+  // vertices of the edges between free (or free and halo) vertices, and of the barycentres of
+  // the faces with two corners on curves and a free third, each list cut into blocks whose two
+  // halves run on two threads (bothHalves; progress between blocks). Each vertex caches its
+  // grid distance (Distance) from one thread only, so the result is the serial one.
+  std::vector<int> asked; // vertex ids, increasing
+  bool unknown = false;   // a vertex whose grid distance is not known yet
+  {
+    std::vector<std::uint8_t> mark(nv, 0);
+    for (const std::array<int, 2>& e : this->Sys->mesh().edges)
+    {
+      if (crossable(e[0], e[1]))
+      {
+        mark[e[0]] = mark[e[1]] = 1;
+      }
+    }
+    for (std::size_t v = 0; v < nv; ++v)
+    {
+      if (mark[v])
+      {
+        asked.push_back(static_cast<int>(v));
+        unknown = unknown || std::isnan(this->Distance[this->Global[v]]);
+      }
+    }
+  }
+  std::vector<std::array<int, 2>> faces; // (face, its free corner)
+  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  {
+    int freeCorner = -1, onCurve = 0;
+    for (int v : this->Tri[t])
+    {
+      if (this->onCurve(v))
+      {
+        ++onCurve;
+      }
+      else if (this->St[v] == Free)
+      {
+        freeCorner = v;
+      }
+    }
+    if (onCurve == 2 && freeCorner >= 0)
+    {
+      faces.push_back({ static_cast<int>(t), freeCorner });
+    }
+  }
+  if (unknown && !this->CurveCells)
+  {
+    this->buildCurveCells(); // (before the threads, which read it)
+  }
+  std::vector<int> region(nv, -3), faceRegion(faces.size(), -3);
+  const auto query =
+    [&](std::size_t from, std::size_t to, StripTreeScratch& rail, DistanceField::Scratch& field)
+  {
+    for (std::size_t i = from; i < to; ++i)
+    {
+      if (i < asked.size())
+      {
+        region[asked[i]] = this->vertexRegion(asked[i], rail, field);
+      }
+      else
+      {
+        const std::array<int, 3>& tri = this->Tri[faces[i - asked.size()][0]];
+        faceRegion[i - asked.size()] =
+          this->Field.region((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]), field);
+      }
+    }
+  };
+  StripTreeScratch rail2;
+  DistanceField::Scratch field2;
+  const std::size_t queries = asked.size() + faces.size();
+  for (std::size_t begin = 0; begin < queries; begin += kQueryBlock)
+  {
+    this->Progress.report(this->At, this->Stage);
+    const std::size_t end = std::min(queries, begin + kQueryBlock);
+    const std::size_t middle = begin + (end - begin) / 2;
+    bothHalves([&] { query(begin, middle, this->RailScratch, this->FieldScratch); },
+      [&] { query(middle, end, rail2, field2); });
+  }
   const auto regionOf = [&](int v)
   {
     if (region[v] == -3)
@@ -1569,12 +1653,12 @@ std::size_t Compressor::pushNewCrossings()
   {
     this->poll(static_cast<std::size_t>(&e - this->Sys->mesh().edges.data()));
     const int a = e[0], b = e[1];
-    const bool freeA = this->St[a] == Free, freeB = this->St[b] == Free;
-    if (!(freeA || freeB) || !(freeA || this->St[a] == Halo) || !(freeB || this->St[b] == Halo))
+    if (!crossable(a, b))
     {
       continue;
     }
-    const int ra = regionOf(a), rb = regionOf(b);
+    const bool freeA = this->St[a] == Free, freeB = this->St[b] == Free;
+    const int ra = region[a], rb = region[b];
     if (ra == rb)
     {
       continue;
@@ -1604,27 +1688,11 @@ std::size_t Compressor::pushNewCrossings()
   // another region than that corner: the boundary bulges into the face between the two curve
   // vertices (or a region too thin to hold a vertex runs through it); the free corner is
   // pushed onto it. (Crossings between free vertices are the edges above.)
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  for (std::size_t k = 0; k < faces.size(); ++k)
   {
-    this->poll(t);
-    const std::array<int, 3>& tri = this->Tri[t];
-    int freeCorner = -1, onCurve = 0;
-    for (int v : tri)
-    {
-      if (this->onCurve(v))
-      {
-        ++onCurve;
-      }
-      else if (this->St[v] == Free)
-      {
-        freeCorner = v;
-      }
-    }
-    if (onCurve != 2 || freeCorner < 0 || push[freeCorner])
-    {
-      continue;
-    }
-    if (this->regionAt((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]])) != regionOf(freeCorner))
+    this->poll(k);
+    const int freeCorner = faces[k][1];
+    if (!push[freeCorner] && faceRegion[k] != regionOf(freeCorner))
     {
       push[freeCorner] = 1;
     }
@@ -1908,7 +1976,7 @@ void Compressor::simulate()
 
 // Region of local vertex i (kOnCurve for vertices on a curve). A vertex that moved less than
 // its grid position's distance to the boundary stayed in the grid vertex's region.
-int Compressor::vertexRegion(int i)
+int Compressor::vertexRegion(int i, StripTreeScratch& rail, DistanceField::Scratch& field)
 {
   if (this->onCurve(i))
   {
@@ -1917,16 +1985,16 @@ int Compressor::vertexRegion(int i)
   const int g = this->Global[i];
   const Vec2 x = this->Sys->positions()[i];
   if (this->Cls.vertexClass[g] != VertexBoundary &&
-    this->movedLessThanGridDistance(g, norm(x - this->Grid.points[g])))
+    this->movedLessThanGridDistance(g, norm(x - this->Grid.points[g]), rail))
   {
     return this->Cls.vertexRegion[g];
   }
-  return this->regionAt(x);
+  return this->Field.region(x, field);
 }
 
 // moved < gridDistance(g), without the strip-tree query when the cells near the curves show
 // that no curve lies within `moved` of the grid point (the tree's distance is then larger).
-bool Compressor::movedLessThanGridDistance(int g, double moved)
+bool Compressor::movedLessThanGridDistance(int g, double moved, StripTreeScratch& rail)
 {
   const bool known = !std::isnan(this->Distance[g]) ||
     (this->Grid.pointBoundaryDistance.size() == this->Grid.points.size() &&
@@ -1935,32 +2003,38 @@ bool Compressor::movedLessThanGridDistance(int g, double moved)
   {
     if (!this->CurveCells)
     {
-      // Cells half the median longest edge of the sub-mesh wide (every 16th triangle).
-      const std::vector<Vec2>& x = this->Sys->positions();
-      std::vector<double> longest;
-      for (std::size_t t = 0; t < this->Tri.size(); t += 16)
-      {
-        const std::array<int, 3>& tri = this->Tri[t];
-        longest.push_back(std::max({ norm2(x[tri[1]] - x[tri[0]]),
-          norm2(x[tri[2]] - x[tri[1]]),
-          norm2(x[tri[0]] - x[tri[2]]) }));
-      }
-      double cell = 0.0;
-      if (!longest.empty())
-      {
-        std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
-        cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
-      }
-      const std::size_t most =
-        std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
-      this->CurveCells = std::make_unique<SegmentGrid>(this->Rails.segmentGrid(cell, most));
+      this->buildCurveCells();
     }
     if (this->CurveCells->noneWithin(this->Grid.points[g], moved))
     {
       return true;
     }
   }
-  return moved < this->gridDistance(g);
+  return moved < this->gridDistance(g, rail);
+}
+
+// The rails' segments in cells half the median longest edge of the sub-mesh wide (every 16th
+// triangle), for movedLessThanGridDistance. Which positions give the width does not change
+// its answers: the cells only spare strip-tree queries whose answer they already know.
+void Compressor::buildCurveCells()
+{
+  const std::vector<Vec2>& x = this->Sys->positions();
+  std::vector<double> longest;
+  for (std::size_t t = 0; t < this->Tri.size(); t += 16)
+  {
+    const std::array<int, 3>& tri = this->Tri[t];
+    longest.push_back(std::max({ norm2(x[tri[1]] - x[tri[0]]),
+      norm2(x[tri[2]] - x[tri[1]]),
+      norm2(x[tri[0]] - x[tri[2]]) }));
+  }
+  double cell = 0.0;
+  if (!longest.empty())
+  {
+    std::nth_element(longest.begin(), longest.begin() + longest.size() / 2, longest.end());
+    cell = 0.5 * std::sqrt(longest[longest.size() / 2]);
+  }
+  const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
+  this->CurveCells = std::make_unique<SegmentGrid>(this->Rails.segmentGrid(cell, most));
 }
 
 // Region of the face (a, b, c) at the given positions: the common region of its corners off

@@ -22,21 +22,22 @@ namespace strata
 namespace detail
 {
 
-constexpr double kCollapse = 0.02;      // restrain: keep at least 2% of the rest area
-constexpr double kLastResort = 0.05;    // snap: then accept 5% of that (0.1% of the rest area)
-constexpr double kSmallArea = 0.1;      // degeneracy check: below 10% of the rest area
-constexpr double kSmallAngle = 10.0;    // degeneracy check: an angle below 10 degrees
-constexpr int kStuckSteps = 20;         // a push blocked this long aims aside
-constexpr int kMaxRetargets = 3;        // times a blocked push aims aside
-constexpr int kMaxWaves = 4;            // push phases after the first one
-constexpr double kSettled = 1e-3;       // relative move below which a step is quiet
-constexpr int kSettledSteps = 10;       // quiet steps that end the simulation
-constexpr int kWakeInterval = 10;       // steps between two updates of the awake particles
-constexpr double kSleep = 3e-2;         // relative move in kWakeInterval steps that keeps awake
-constexpr double kQuietFraction = 5e-3; // fewer moving vertices than this fraction: stop
-constexpr double kGoodAngle = 30.0;     // optimization leaves stars and pairs above this alone
-constexpr double kPoorAngle = 20.0;     // smoothing below this may leave the boundary tolerance
-constexpr int kOnCurve = -2;            // vertex region of a vertex on a curve
+constexpr double kCollapse = 0.02;         // restrain: keep at least 2% of the rest area
+constexpr double kLastResort = 0.05;       // snap: then accept 5% of that (0.1% of the rest area)
+constexpr double kSmallArea = 0.1;         // degeneracy check: below 10% of the rest area
+constexpr double kSmallAngle = 10.0;       // degeneracy check: an angle below 10 degrees
+constexpr int kStuckSteps = 20;            // a push blocked this long aims aside
+constexpr int kMaxRetargets = 3;           // times a blocked push aims aside
+constexpr int kMaxWaves = 4;               // push phases after the first one
+constexpr double kSettled = 1e-3;          // relative move below which a step is quiet
+constexpr int kSettledSteps = 10;          // quiet steps that end the simulation
+constexpr int kWakeInterval = 10;          // steps between two updates of the awake particles
+constexpr double kSleep = 3e-2;            // relative move in kWakeInterval steps that keeps awake
+constexpr double kQuietFraction = 5e-3;    // fewer moving vertices than this fraction: stop
+constexpr double kGoodAngle = 30.0;        // optimization leaves stars and pairs above this alone
+constexpr double kPoorAngle = 20.0;        // smoothing below this may leave the boundary tolerance
+constexpr int kOnCurve = -2;               // vertex region of a vertex on a curve
+constexpr std::size_t kQueryBlock = 16384; // queries per block of a two-thread query loop
 
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t0)
@@ -115,8 +116,16 @@ private:
   // --- set-up
   void buildGlobalStars();
   bool isBorderVertex(int g) const;
-  double gridDistance(int g);
-  bool movedLessThanGridDistance(int g, double moved);
+  // The queries below with the compressor's own scratch, or with a caller's (another
+  // thread's: see pushNewCrossings).
+  double gridDistance(int g) { return this->gridDistance(g, this->RailScratch); }
+  double gridDistance(int g, StripTreeScratch& rail);
+  bool movedLessThanGridDistance(int g, double moved)
+  {
+    return this->movedLessThanGridDistance(g, moved, this->RailScratch);
+  }
+  bool movedLessThanGridDistance(int g, double moved, StripTreeScratch& rail);
+  void buildCurveCells();
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
@@ -145,7 +154,8 @@ private:
   std::size_t unblockPushes();
   // --- faces and optimization
   int regionAt(Vec2 p) { return this->Field.region(p, this->FieldScratch); }
-  int vertexRegion(int i);
+  int vertexRegion(int i) { return this->vertexRegion(i, this->RailScratch, this->FieldScratch); }
+  int vertexRegion(int i, StripTreeScratch& rail, DistanceField::Scratch& field);
   int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
   int faceTag(int t);
   void classifyFaces();

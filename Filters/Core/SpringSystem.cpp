@@ -25,12 +25,11 @@
 #include "SpringSystem.h"
 
 #include "Errors.h"
+#include "Parallel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <system_error>
-#include <thread>
 #include <utility>
 
 #if defined(__SSE2__)
@@ -51,29 +50,6 @@ void checkRange(bool ok, const char* name, double value, const char* range)
   }
 }
 
-// Runs first() and second(): at once on two threads when the machine has two cores (and a
-// thread can be started), else one after the other. Neither may throw.
-template<class First, class Second>
-void bothHalves(First&& first, Second&& second)
-{
-  static const bool twoCores = std::thread::hardware_concurrency() > 1;
-  if (twoCores)
-  {
-    try
-    {
-      std::thread other(second);
-      first();
-      other.join();
-      return;
-    }
-    catch (const std::system_error&)
-    {
-      // No thread to be had: both halves here.
-    }
-  }
-  first();
-  second();
-}
 } // namespace
 
 void validate(const SpringParams& p)
