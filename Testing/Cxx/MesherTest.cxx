@@ -562,7 +562,7 @@ const DefaultCase kDefaultCases[] = {
   { "nested_holes.vtp", 25, 130, 95, 0.5 },
   { "touching_loops.vtp", 25, 130, 95, 0.5 },
   { "countries_westeurope.vtp", 25, 130, 95, 1.25 },
-  { "countries_westeurope_loops.vtp", 25, 130, 95, 1.9 },
+  { "countries_westeurope_loops.vtp", 25, 130, 95, 1.4 },
   { "salt_dome_loops.vtp", 25, 130, 95, 0.5 },
   { "pinch_out.vtp", 25, 130, 95, 0.5 },
   { "lake_superior.vtp", 25, 130, 95, 1.3 },
