@@ -570,9 +570,9 @@ void refineCompressed(CompressionResult& compressed,
     at = rails.position(rails.slide(l, dot(toward - from, rails.tangent(l))).location);
     return true;
   };
-  // The model's region corners sharper than the bound (by less than kModelCornerMargin
-  // degrees above it), sorted by x: where a region has none near a sharp spike of its mesh,
-  // the spike is the mesh's (DelaunayRefinement.cpp, 2c).
+  // The model's region corners sharper than the bound plus kModelCornerMargin degrees, sorted
+  // by x: where a region has none near a sharp spike of its mesh, the spike is the mesh's
+  // (DelaunayRefinement.cpp, 2c).
   std::vector<std::pair<Vec2, int>> modelCorners;
   if (params.curveRecovery && rp.minimumAngle > 0.0)
   {
