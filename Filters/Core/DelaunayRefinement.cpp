@@ -492,6 +492,7 @@ private:
     }
   }
   double cornerAngle(int t) const;
+  int sharpestRegionCorner(int t, const std::array<double, 3>& angles) const;
   bool meshSpike(int t) const;
   bool inKept(int t) const;
   bool inKept(const std::array<int, 3>& tri, int region) const;
@@ -1424,6 +1425,22 @@ double Refiner::cornerAngle(int t) const
   return angle;
 }
 
+// The corner of t between two region boundary edges with the smallest of the given angles
+// (t's, by corner), or -1 when t has no such corner.
+int Refiner::sharpestRegionCorner(int t, const std::array<double, 3>& angles) const
+{
+  int k = -1;
+  for (int j = 0; j < 3; ++j)
+  {
+    if (this->constrained(t, j) && this->constrained(t, (j + 2) % 3) &&
+      (k < 0 || angles[j] < angles[k]))
+    {
+      k = j;
+    }
+  }
+  return k;
+}
+
 // Whether t's sharpest region corner is a spike of its region between two triangles of one
 // other region (or the outer border) with no corner of the model's region sharper than the
 // bound within kSpikeReach times t's longest edge of it (RefinementParams::sharpModelCorner): the
@@ -1436,16 +1453,7 @@ bool Refiner::meshSpike(int t) const
   }
   const auto& tri = this->M.triangles[t];
   const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
-  const auto angles = triangleAngles(p[0], p[1], p[2]);
-  int k = -1;
-  for (int j = 0; j < 3; ++j)
-  {
-    if (this->constrained(t, j) && this->constrained(t, (j + 2) % 3) &&
-      (k < 0 || angles[j] < angles[k]))
-    {
-      k = j;
-    }
-  }
+  const int k = this->sharpestRegionCorner(t, triangleAngles(p[0], p[1], p[2]));
   if (k < 0)
   {
     return false;
@@ -1727,15 +1735,7 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
       continue; // 2c gives it away whole, or it has no sharp corner
     }
     const auto angles = triangleAngles(p[0], p[1], p[2]);
-    int k = -1; // the sharpest region corner
-    for (int j = 0; j < 3; ++j)
-    {
-      if (this->constrained(t, j) && this->constrained(t, (j + 2) % 3) &&
-        (k < 0 || angles[j] < angles[k]))
-      {
-        k = j;
-      }
-    }
+    const int k = this->sharpestRegionCorner(t, angles);
     // Its edges are split at distance d from it, on their curves: the far edge of the tip,
     // 2 d sin(angle / 2), is kTipCut finest edges long (long enough for the refinement).
     const Vec2 v = p[k], a = p[(k + 1) % 3], b = p[(k + 2) % 3];

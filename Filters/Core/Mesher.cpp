@@ -75,6 +75,27 @@ double ringAngle(const Ring& ring, std::size_t i)
   return angle <= 0.0 ? angle + 360.0 : angle;
 }
 
+// Calls visit(region, ring, i, angle) for every point i of a ring of the model where the
+// region's own angle is below `below` degrees.
+template<class Visit>
+void forEachSharpCorner(const Model& model, double below, Visit&& visit)
+{
+  for (const Region& region : model.regions)
+  {
+    for (const Ring& ring : region.rings)
+    {
+      for (std::size_t i = 0; i < ring.points.size() && ring.points.size() >= 3; ++i)
+      {
+        const double angle = ringAngle(ring, i);
+        if (angle < below)
+        {
+          visit(region, ring, i, angle);
+        }
+      }
+    }
+  }
+}
+
 // Triangles whose smallest angle (below kSharpCorner degrees) sits on a model node where a
 // region's own angle is below kSharpCorner: the input forces them (a vertex is placed exactly
 // on every junction and on the corners the rails stop at).
@@ -85,24 +106,14 @@ std::size_t trianglesAtSharpCorners(const Model& model,
 {
   constexpr double kSharpCorner = 25.0;
   std::map<std::pair<double, double>, double> sharp;
-  for (const Region& region : model.regions)
-  {
-    for (const Ring& ring : region.rings)
+  forEachSharpCorner(model,
+    kSharpCorner,
+    [&](const Region&, const Ring& ring, std::size_t i, double angle)
     {
-      const std::size_t n = ring.points.size();
-      for (std::size_t i = 0; i < n && n >= 3; ++i)
-      {
-        const Vec2 p = ring.points[i];
-        const double angle = ringAngle(ring, i);
-        if (angle < kSharpCorner)
-        {
-          const std::pair<double, double> key(p.x, p.y);
-          const auto it = sharp.find(key);
-          sharp[key] = it == sharp.end() ? angle : std::min(it->second, angle);
-        }
-      }
-    }
-  }
+      const std::pair<double, double> key(ring.points[i].x, ring.points[i].y);
+      const auto it = sharp.find(key);
+      sharp[key] = it == sharp.end() ? angle : std::min(it->second, angle);
+    });
   std::size_t count = 0;
   for (std::size_t t = 0; t < triangles.size() && !sharp.empty(); ++t)
   {
@@ -576,19 +587,10 @@ void refineCompressed(CompressionResult& compressed,
   std::vector<std::pair<Vec2, int>> modelCorners;
   if (params.curveRecovery && rp.minimumAngle > 0.0)
   {
-    for (const Region& region : model.regions)
-    {
-      for (const Ring& ring : region.rings)
-      {
-        for (std::size_t i = 0; i < ring.points.size() && ring.points.size() >= 3; ++i)
-        {
-          if (ringAngle(ring, i) < rp.minimumAngle + kModelCornerMargin)
-          {
-            modelCorners.emplace_back(ring.points[i], region.id);
-          }
-        }
-      }
-    }
+    forEachSharpCorner(model,
+      rp.minimumAngle + kModelCornerMargin,
+      [&](const Region& region, const Ring& ring, std::size_t i, double)
+      { modelCorners.emplace_back(ring.points[i], region.id); });
     std::sort(modelCorners.begin(),
       modelCorners.end(),
       [](const std::pair<Vec2, int>& a, const std::pair<Vec2, int>& b)
