@@ -218,6 +218,22 @@ TEST(MesherTest, ResultIsCompleteAndConsistent)
   }
 }
 
+// The parts that run on two threads (the spring steps of large systems, the region queries of
+// the waves of new pushes) split their work the same way on every run: the same input gives
+// the same mesh, bit for bit. The gulf at its automatic levels (78 k triangles) takes both.
+TEST(MesherTest, TheSameInputGivesTheSameMeshEveryRun)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("gulf_section.vtp"));
+  const strata::MesherResult first = strata::triangulate(raw);
+  const strata::MesherResult second = strata::triangulate(raw);
+  ASSERT_GT(first.triangles.size(), 50000u);
+  EXPECT_EQ(first.points, second.points);
+  EXPECT_EQ(first.triangles, second.triangles);
+  EXPECT_EQ(first.regionId, second.regionId);
+  EXPECT_EQ(first.summary.iterations, second.summary.iterations);
+}
+
 TEST(MesherTest, BoundaryCurvesHaveTheirRegionOnTheLeft)
 {
   // A square region: its outer border is one closed curve, counter-clockwise around it.
