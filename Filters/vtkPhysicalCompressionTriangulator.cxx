@@ -223,6 +223,9 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "CurveVertices", static_cast<int>(s.curveVertices));
   vtkStrataMeshOutput::AddField(
     fd, "TrianglesAtSharpCorners", static_cast<int>(s.trianglesAtSharpCorners));
+  vtkStrataMeshOutput::AddField(
+    fd, "TrianglesBelowMinimumAngle", static_cast<int>(s.trianglesBelowMinimumAngle));
+  vtkStrataMeshOutput::AddField(fd, "LocalMaxLevel", s.localMaxLevel);
   if (params.keepSharpCorners)
   {
     vtkStrataMeshOutput::AddField(fd, "KeptCorners", static_cast<int>(result.keptCorners.size()));

@@ -31,7 +31,10 @@
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
- * that), with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, `ThinLayerMesh` (1
+ * that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below MinimumAngle by more
+ * than 0.05 degrees that neither an input corner nor a kept one forces; a warning names the
+ * worst one's angle, region and place), `LocalMaxLevel` (the level the mesh was made with),
+ * with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, `ThinLayerMesh` (1
  * when the mesh was made with the grid's thin layer refinement: ThinLayerRefinement on, or
  * ThinLayerRetry's second mesh kept; when a second mesh was made, `SecondsDiscardedRun` times
  * the one not kept), and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the
@@ -276,8 +279,12 @@ public:
    * whose region areas are off by more than 0.5%, is made again with ThinLayerRefinement, and
    * the better of the two is kept (the larger smallest angle up to that bound, then the
    * smaller area error); field `ThinLayerMesh` says whether the mesh kept was made with it, a
-   * warning gives both meshes' figures. A mesh that meets the bounds is made once. Off: one
-   * mesh, as made.
+   * warning gives both meshes' figures. A mesh that meets the bounds is made once. Then,
+   * with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length field),
+   * CurveRecovery and MinimumAngle 25 or more: a mesh still below 25 degrees where no input
+   * corner sharper than 25 forces it (layers about a finest edge thick) is made again with
+   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger (field
+   * `LocalMaxLevel`, a warning). Off: one mesh, as made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

@@ -96,10 +96,10 @@ void forEachSharpCorner(const Model& model, double below, Visit&& visit)
   }
 }
 
-// Triangles whose smallest angle (below kSharpCorner degrees) sits on a model node where a
-// region's own angle is below kSharpCorner: the input forces them (a vertex is placed exactly
-// on every junction and on the corners the rails stop at).
-std::size_t trianglesAtSharpCorners(const Model& model,
+// Per triangle: whether its smallest angle (below kSharpCorner degrees) sits on a model node
+// where a region's own angle is below kSharpCorner: the input forces it (a vertex is placed
+// exactly on every junction and on the corners the rails stop at).
+std::vector<char> atSharpCorners(const Model& model,
   const std::vector<Vec2>& points,
   const std::vector<std::array<int, 3>>& triangles,
   const std::vector<double>& minAngle)
@@ -114,7 +114,7 @@ std::size_t trianglesAtSharpCorners(const Model& model,
       const auto it = sharp.find(key);
       sharp[key] = it == sharp.end() ? angle : std::min(it->second, angle);
     });
-  std::size_t count = 0;
+  std::vector<char> at(triangles.size(), 0);
   for (std::size_t t = 0; t < triangles.size() && !sharp.empty(); ++t)
   {
     if (!(minAngle[t] < kSharpCorner))
@@ -126,9 +126,9 @@ std::size_t trianglesAtSharpCorners(const Model& model,
       triangleAngles(points[tri[0]], points[tri[1]], points[tri[2]]);
     const int k = static_cast<int>(std::min_element(angles.begin(), angles.end()) - angles.begin());
     const Vec2 p = points[tri[k]];
-    count += sharp.count({ p.x, p.y }) > 0;
+    at[t] = sharp.count({ p.x, p.y }) > 0;
   }
-  return count;
+  return at;
 }
 
 constexpr double kKeptReach = 8.0; // a kept corner's sides reach this many finest edges across
@@ -271,6 +271,12 @@ constexpr double kRetryMarginScale = 0.5;
 // ThinLayerRetry: a first mesh below min(MinimumAngle, this) - kRetryAngleSlack degrees, or
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
+// ThinLayerRetry with the automatic levels: a mesh below this many degrees (issue 5's bound)
+// off the input's corners is made again with LocalMaxLevel this much finer (see triangulate());
+// the first mesh has this share of the progress range.
+constexpr double kFinerRetryAngle = 25.0;
+constexpr int kFinerLevels = 4;
+constexpr double kFirstShare = 0.8;
 
 // The segment of chain c within `tolerance` of p, walked to from segment `start` (dir +1
 // forward, -1 backward) over at most `reach` of arc length, or -1; `walked` is the length
@@ -1076,6 +1082,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
   const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.15));
   const TriangleMesh mesh = grid.extract();
   result.summary.finestEdgeLength = finestEdgeLength(grid, params);
+  result.summary.localMaxLevel = grid.params().localMaxLevel;
   stage("grid");
 
   const Classification classification =
@@ -1210,14 +1217,56 @@ MesherResult triangulateOnce(const RawPolylines& input,
   }
   progress.report(0.95, "writing the mesh");
   const QualitySummary qs = summarizeQuality(q);
+  const std::vector<char> forced =
+    atSharpCorners(model, result.points, result.triangles, result.minAngle);
   result.summary.trianglesAtSharpCorners =
-    trianglesAtSharpCorners(model, result.points, result.triangles, result.minAngle);
+    static_cast<std::size_t>(std::count(forced.begin(), forced.end(), 1));
+  // The triangles below MinimumAngle near a kept corner: what keeping the corners costs.
+  std::vector<char> nearKept(result.triangles.size(), 0);
   for (std::size_t t = 0; t < result.triangles.size() && !result.keptCorners.empty(); ++t)
   {
     const auto& tri = result.triangles[t];
-    result.summary.keptCornerTriangles += result.minAngle[t] < params.refinement.minimumAngle &&
+    nearKept[t] = result.minAngle[t] < params.refinement.minimumAngle &&
       nearKeptCorner(
         result.keptCorners, result.points[tri[0]], result.points[tri[1]], result.points[tri[2]]);
+    result.summary.keptCornerTriangles += nearKept[t];
+  }
+  // With the optimization, those that neither the input's corners nor the kept ones force:
+  // where the mesh missed the bound (the worst one named with its place).
+  std::size_t worst = result.triangles.size();
+  for (std::size_t t = 0; t < result.triangles.size() && params.compression.optimize; ++t)
+  {
+    if (result.minAngle[t] < params.refinement.minimumAngle - kRetryAngleSlack && !forced[t] &&
+      !nearKept[t])
+    {
+      ++result.summary.trianglesBelowMinimumAngle;
+      worst =
+        worst < result.triangles.size() && result.minAngle[worst] <= result.minAngle[t] ? worst : t;
+    }
+  }
+  if (worst < result.triangles.size())
+  {
+    const auto& tri = result.triangles[worst];
+    const Vec2 g =
+      (1.0 / 3.0) * (result.points[tri[0]] + result.points[tri[1]] + result.points[tri[2]]) +
+      model.origin;
+    char text[512];
+    std::snprintf(text,
+      sizeof(text),
+      "%zu triangles stay below MinimumAngle (%g degrees) with no input corner forcing them: the "
+      "smallest angle, %.2f degrees, is in region %d at (%.9g, %.9g). This happens where layers "
+      "are about a finest edge (%.6g model units) thick or thinner: a LocalMaxLevel 2 to 6 "
+      "levels finer than this mesh's %d (each level halves the finest triangles' area) "
+      "usually resolves them",
+      result.summary.trianglesBelowMinimumAngle,
+      params.refinement.minimumAngle,
+      result.minAngle[worst],
+      result.regionId[worst],
+      g.x,
+      g.y,
+      result.summary.finestEdgeLength,
+      grid.params().localMaxLevel);
+    result.warnings.push_back(text);
   }
   if (qs.inverted + qs.degenerate > 0)
   {
@@ -1442,13 +1491,11 @@ MesherResult triangulateOnce(const RawPolylines& input,
   return result;
 }
 
-} // namespace
-
-MesherResult triangulate(const RawPolylines& input,
+// triangulate() without the finer level's retry.
+MesherResult triangulateWithThinLayers(const RawPolylines& input,
   const MesherParams& params,
-  const ProgressCallback& callback)
+  const ProgressReporter& progress)
 {
-  const ProgressReporter progress(callback);
   const bool thinFirst = params.grid.thinLayerRefinement;
   if (!thinFirst && !(params.thinLayerRetry && params.compression.optimize))
   {
@@ -1503,6 +1550,64 @@ MesherResult triangulate(const RawPolylines& input,
     " missed the angle or area bound (" + figures(first) + "), so a mesh " +
     (thinFirst ? without : with) + " was made too (" + figures(second) + "); the " +
     (keepSecond ? "second" : "first") + " one is kept");
+  kept.summary.secondsPerStage.insert(
+    kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
+  kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  progress.report(1.0, "done");
+  return kept;
+}
+
+} // namespace
+
+MesherResult triangulate(const RawPolylines& input,
+  const MesherParams& params,
+  const ProgressCallback& callback)
+{
+  const ProgressReporter progress(callback);
+  const bool retry = params.thinLayerRetry && params.compression.optimize && params.curveRecovery &&
+    !params.keepSharpCorners && params.refinement.minimumAngle >= kFinerRetryAngle &&
+    params.grid.localMaxLevel < 0 && !(params.grid.minEdgeLength > 0.0) &&
+    !params.grid.targetEdgeLength;
+  if (!retry)
+  {
+    return triangulateWithThinLayers(input, params, progress);
+  }
+  // Triangles below 25 degrees that no input corner forces sit in layers about a finest edge
+  // thick (the aliasing of the paper's Section 6.6): with the automatic levels, the mesh is
+  // made again with LocalMaxLevel kFinerLevels finer (finest edges 4 times shorter), and the
+  // one with the larger smallest angle is kept (random layered sections: 7.8 - 24.2 degrees
+  // become 28.3 - 30).
+  const Clock::time_point begin = Clock::now();
+  MesherResult first = triangulateWithThinLayers(input, params, progress.sub(0.0, kFirstShare));
+  if (first.summary.triangles == 0 || first.summary.trianglesBelowMinimumAngle == 0 ||
+    first.summary.trianglesAtSharpCorners > 0 ||
+    !(first.summary.minAngle < kFinerRetryAngle - kRetryAngleSlack) ||
+    first.summary.localMaxLevel + kFinerLevels > 60)
+  {
+    progress.report(1.0, "done");
+    return first;
+  }
+  MesherParams finerParams = params;
+  finerParams.grid.localMaxLevel = first.summary.localMaxLevel + kFinerLevels;
+  MesherResult finer =
+    triangulateWithThinLayers(input, finerParams, progress.sub(kFirstShare, 1.0));
+  const bool keepFiner = finer.summary.triangles > 0 &&
+    finer.summary.minAngle > first.summary.minAngle + kRetryAngleSlack;
+  MesherResult& kept = keepFiner ? finer : first;
+  const MesherResult& other = keepFiner ? first : finer;
+  char text[256];
+  std::snprintf(text,
+    sizeof(text),
+    "the mesh at LocalMaxLevel %d had triangles below %g degrees (smallest %.2f), so it was made "
+    "again at LocalMaxLevel %d (smallest %.2f degrees, %zu triangles); the %s one is kept",
+    first.summary.localMaxLevel,
+    kFinerRetryAngle,
+    first.summary.minAngle,
+    finer.summary.localMaxLevel,
+    finer.summary.minAngle,
+    finer.summary.triangles,
+    keepFiner ? "finer" : "first");
+  kept.warnings.push_back(text);
   kept.summary.secondsPerStage.insert(
     kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
   kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();

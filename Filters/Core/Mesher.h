@@ -66,7 +66,12 @@ struct MesherParams
   /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
   /// smaller area error (Summary::thinLayerMesh, a warning). Meshes that meet the bounds are
   /// made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
-  /// the mesh without it the second, whatever this says. Default on.
+  /// the mesh without it the second, whatever this says. Then, with the automatic levels
+  /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a
+  /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
+  /// angle: a mesh still below 25 degrees (layers about a finest edge thick) is made again with
+  /// grid.localMaxLevel 4 levels finer than the automatic one, and kept when its smallest angle
+  /// is larger (a warning gives both; Summary::localMaxLevel). Default on.
   bool thinLayerRetry = true;
 };
 
@@ -141,6 +146,9 @@ struct MesherResult
     /// the grid's finest leg at its junction level. Regions narrower than this cannot be
     /// represented: there the boundary may lie farther than half an edge from its curve.
     double finestEdgeLength = 0.0;
+    /// The grid's LocalMaxLevel the mesh was made with (grid.localMaxLevel, or its automatic
+    /// value; MesherParams::thinLayerRetry may have raised it).
+    int localMaxLevel = 0;
     int iterations = 0; ///< simulation steps
     /// Edges of the approximated boundary split onto their curve by the boundary refinement.
     std::size_t boundarySplits = 0;
@@ -151,6 +159,12 @@ struct MesherResult
     /// Triangles with a smallest angle below 25 degrees at a model corner sharper than 25
     /// degrees (a region's angle there): the input forces them, they are kept, not mended.
     std::size_t trianglesAtSharpCorners = 0;
+    /// With the optimization (compression.optimize): the triangles whose smallest angle is
+    /// below refinement.minimumAngle by more than 0.05 degrees, not counting those of
+    /// trianglesAtSharpCorners and keptCornerTriangles (which the input or the user's choice
+    /// forces): where the mesh missed the bound, mostly in layers about a finest edge thick. A
+    /// warning names the worst one's angle, region and place. 0 without the optimization.
+    std::size_t trianglesBelowMinimumAngle = 0;
     /// With MesherParams::keepSharpCorners: the model's corners it applies to (kept or not;
     /// MesherResult::keptCorners lists those kept, a warning names the others).
     std::size_t sharpCorners = 0;

@@ -1003,3 +1003,63 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
     }
   }
 }
+
+// Layers about a finest edge thick (thin_layered_section.vtp, LocalMaxLevel 14 automatic): the
+// mesh made once keeps triangles below 25 degrees that no input corner forces (15.5 degrees
+// where one layer ends in another). They are counted, and a warning names the worst one's angle,
+// region and place (its centroid, input coordinates). ThinLayerRetry (default) makes the mesh
+// again with LocalMaxLevel 4 levels finer and keeps it (30 degrees); a LocalMaxLevel the user set
+// is kept as set.
+TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("thin_layered_section.vtp"));
+  strata::MesherParams once;
+  once.thinLayerRetry = false;
+  const strata::MesherResult r = strata::triangulate(raw, once);
+  ASSERT_LT(r.summary.minAngle, 25.0);
+  EXPECT_EQ(r.summary.trianglesAtSharpCorners, 0u);
+  std::size_t below = 0, worst = 0;
+  for (std::size_t t = 0; t < r.minAngle.size(); ++t)
+  {
+    below += r.minAngle[t] < once.refinement.minimumAngle - 0.05;
+    worst = r.minAngle[t] < r.minAngle[worst] ? t : worst;
+  }
+  EXPECT_GT(below, 0u);
+  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, below);
+  const std::string warnings = allWarnings(r);
+  const auto& tri = r.triangles[worst];
+  const Vec2 g = (1.0 / 3.0) * (r.points[tri[0]] + r.points[tri[1]] + r.points[tri[2]]) + r.origin;
+  char expected[160];
+  std::snprintf(expected,
+    sizeof(expected),
+    "%zu triangles stay below MinimumAngle (30 degrees) with no input corner forcing them: the "
+    "smallest angle, %.2f degrees, is in region %d at (%.9g, %.9g)",
+    below,
+    r.minAngle[worst],
+    r.regionId[worst],
+    g.x,
+    g.y);
+  EXPECT_NE(warnings.find(expected), std::string::npos) << expected << "\n" << warnings;
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  EXPECT_EQ(d.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_NE(allWarnings(d).find("made again at LocalMaxLevel"), std::string::npos)
+    << allWarnings(d);
+  EXPECT_EQ(allWarnings(d).find("stay below MinimumAngle"), std::string::npos) << allWarnings(d);
+
+  strata::MesherParams set;
+  set.grid.localMaxLevel = r.summary.localMaxLevel;
+  const strata::MesherResult s = strata::triangulate(raw, set);
+  EXPECT_EQ(s.summary.localMaxLevel, r.summary.localMaxLevel);
+  EXPECT_LT(s.summary.minAngle, 25.0);
+  EXPECT_GT(s.summary.trianglesBelowMinimumAngle, 0u);
+
+  // A mesh that meets the bound says nothing of the kind.
+  const strata::MesherResult salt =
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")));
+  EXPECT_EQ(salt.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_EQ(allWarnings(salt).find("stay below MinimumAngle"), std::string::npos);
+}

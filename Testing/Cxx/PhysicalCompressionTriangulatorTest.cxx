@@ -92,7 +92,9 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
          "RefinementVertices",
          "CurveVertices",
          "UnresolvedRegions",
-         "TrianglesAtSharpCorners" })
+         "TrianglesAtSharpCorners",
+         "TrianglesBelowMinimumAngle",
+         "LocalMaxLevel" })
   {
     ASSERT_NE(fd->GetArray(name), nullptr) << name;
   }

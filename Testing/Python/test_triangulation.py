@@ -221,6 +221,18 @@ class TriangulationTest(unittest.TestCase):
         self.assertLessEqual(field(thin, "MaxRegionAreaError"), 0.005)
         self.assertTrue((signed_areas(thin) > 0).all())
 
+    def test_triangles_below_the_bound_are_counted_and_a_finer_level_mends_them(self):
+        # Layers about a finest edge thick: made once, triangles stay below 25 degrees and are
+        # counted; by default (ThinLayerRetry) the mesh is made again 4 levels finer.
+        default, once = default_and_changed("thin_layered_section.vtp", ThinLayerRetry=0)
+        self.assertLess(field(once, "MinimumAngle"), 25.0)
+        below = (np.asarray(once.CellData["MinimumAngle"]) < 29.95).sum()
+        self.assertGreater(below, 0)
+        self.assertEqual(field(once, "TrianglesBelowMinimumAngle"), below)
+        self.assertEqual(field(default, "LocalMaxLevel"), field(once, "LocalMaxLevel") + 4)
+        self.assertGreaterEqual(field(default, "MinimumAngle"), 29.95)
+        self.assertEqual(field(default, "TrianglesBelowMinimumAngle"), 0)
+
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
         mesh = Triangulation(Input=model)

@@ -250,6 +250,7 @@ int main(int argc, char** argv)
                 " \"max_region_area_error_pct\": %.4f, \"finest_edge_length\": %.6g,\n"
                 " \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
+                " \"triangles_below_minimum_angle\": %zu,\n"
                 " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
                 " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n"
                 " \"thin_layer_mesh\": %s,\n",
@@ -267,6 +268,7 @@ int main(int argc, char** argv)
       s.totalSeconds,
       s.boundarySplits,
       s.trianglesAtSharpCorners,
+      s.trianglesBelowMinimumAngle,
       s.refinementVertices,
       s.curveVertices,
       s.sharpCorners,
