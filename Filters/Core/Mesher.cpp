@@ -1609,7 +1609,7 @@ MesherResult triangulate(const RawPolylines& input,
     keepFiner ? "finer" : "first");
   kept.warnings.push_back(text);
   kept.summary.secondsPerStage.insert(
-    kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
+    kept.summary.secondsPerStage.begin(), { "discarded level run", other.summary.totalSeconds });
   kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
   progress.report(1.0, "done");
   return kept;

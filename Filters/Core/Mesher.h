@@ -175,7 +175,8 @@ struct MesherResult
     std::size_t keptCornerTriangles = 0;
     /// Whether the mesh was made with the grid's thin layer refinement: grid.thinLayerRefinement
     /// and its mesh kept, or thinLayerRetry's second mesh kept (a warning then gives both
-    /// meshes' figures, and secondsPerStage starts with the discarded run's "discarded run").
+    /// meshes' figures, and secondsPerStage starts with the discarded run's "discarded run"; the
+    /// finer level's retry puts "discarded level run" before it).
     bool thinLayerMesh = false;
     /// Wall-clock seconds of each stage, in order.
     std::vector<std::pair<std::string, double>> secondsPerStage;
