@@ -43,20 +43,20 @@ struct ClassificationParams
 struct Classification
 {
   double boundaryTolerance = 0.0;       ///< the tolerance used (automatic value resolved)
-  std::vector<std::int8_t> vertexClass; ///< VertexClass per point
+  LargeVector<std::int8_t> vertexClass; ///< VertexClass per point
   /// Region containing each point: for interior points the region, for boundary points the
   /// region DistanceField::query reports (on a boundary shared by regions the one with the
   /// largest signed distance, i.e. the side the point is on; -1 on the exterior side).
-  std::vector<int> vertexRegion;
+  LargeVector<int> vertexRegion;
   /// Unique edges, each once, as (a, b) with a < b, ordered by a then b.
-  std::vector<std::array<int, 2>> edges;
-  std::vector<std::int8_t> edgeClass; ///< EdgeClass per edge
+  LargeVector<std::array<int, 2>> edges;
+  LargeVector<std::int8_t> edgeClass; ///< EdgeClass per edge
   /// Interior edges: their region. Intersection edges: the region of the first endpoint (a,
   /// then b) that is an interior vertex; if neither is, the first endpoint whose vertexRegion
   /// is not -1; else -1. Exterior edges: -1.
-  std::vector<int> edgeRegion;
+  LargeVector<int> edgeRegion;
   /// Region containing each triangle's barycentre (-1 for none).
-  std::vector<int> cellRegion;
+  LargeVector<int> cellRegion;
   std::size_t regionQueries = 0; ///< DistanceField::query calls made
 };
 

@@ -107,7 +107,7 @@ std::uint32_t spreadBits(std::uint32_t v)
 // Sorts the point ids in Z-order over their bounding box (ties by id), so that ids close in
 // the list are close in the plane: the simulation's arrays are then read nearly in order, and
 // the halves of a split step (SpringSystem) meet along a short seam.
-void sortSpatially(std::vector<int>& ids, const std::vector<Vec2>& points)
+void sortSpatially(std::vector<int>& ids, const LargeVector<Vec2>& points)
 {
   if (ids.empty())
   {
@@ -540,8 +540,8 @@ BoundaryRails::Slide BoundaryRails::slide(const Location& from, double s) const
 }
 
 //------------------------------------------------------------------------------
-bool restrainAccepts(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles,
+bool restrainAccepts(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles,
   const int* star,
   int starSize,
   int i,
@@ -573,8 +573,8 @@ bool restrainAccepts(const std::vector<Vec2>& points,
   return true;
 }
 
-std::size_t flipDegenerateTriangles(const std::vector<Vec2>& points,
-  std::vector<std::array<int, 3>>& triangles,
+std::size_t flipDegenerateTriangles(const LargeVector<Vec2>& points,
+  LargeVector<std::array<int, 3>>& triangles,
   double smallAngle,
   int passes)
 {
@@ -1040,7 +1040,7 @@ void Compressor::buildSubMesh()
     }
   }
   // Spring edges (each edge once; both triangles of an edge share its id).
-  std::vector<std::array<int, 2>> edges;
+  LargeVector<std::array<int, 2>> edges;
   this->TriEdge.assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {
@@ -1067,7 +1067,7 @@ void Compressor::buildSubMesh()
     }
   }
   const std::size_t nv = this->Global.size();
-  std::vector<Vec2> x(nv), rest(nv);
+  LargeVector<Vec2> x(nv), rest(nv);
   for (std::size_t i = 0; i < nv; ++i)
   {
     x[i] = this->Points[this->Global[i]];
@@ -1209,7 +1209,7 @@ void Compressor::updateStars()
   {
     return;
   }
-  std::vector<int>& flipped = this->Flipped;
+  auto& flipped = this->Flipped;
   std::sort(flipped.begin(), flipped.end());
   flipped.erase(std::unique(flipped.begin(), flipped.end()), flipped.end());
   this->FlippedMark.resize(this->Tri.size(), 0);
@@ -1225,7 +1225,7 @@ void Compressor::updateStars()
     }
   }
   std::sort(now.begin(), now.end());
-  std::vector<int> items(this->StarItems.size()); // (freed with the old items on return)
+  LargeVector<int> items(this->StarItems.size()); // (freed with the old items on return)
   const int* old = this->StarItems.data();
   int* out = items.data();
   int copied = 0; // old items copied or replaced so far
@@ -1304,7 +1304,7 @@ bool Compressor::nearClaimedStop(const Location& l, double reach) const
 void Compressor::claimStopPoints()
 {
   std::vector<std::pair<double, int>> order;
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   for (int i = 0; i < this->NumActive; ++i)
   {
     if (this->St[i] == Pushing && !this->junctionBound(i))
@@ -1353,7 +1353,7 @@ void Compressor::spreadTargets()
         ? a.l.chain < b.l.chain
         : (a.l.segment != b.l.segment ? a.l.segment < b.l.segment : a.l.t < b.l.t);
     });
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   for (std::size_t k = 1; k < items.size(); ++k)
   {
     const int a = items[k - 1].vertex, b = items[k].vertex;
@@ -1383,7 +1383,7 @@ void Compressor::setBudget(int i)
 // avoiding taken stop points.
 void Compressor::retarget(int i)
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const double h = 0.5 * this->Sys->localLength(i) * (1 + this->Retargets[i] / 2);
   const Location now = this->Rails.closest(x[i], this->RailScratch);
   bool found = false;
@@ -1441,7 +1441,7 @@ void Compressor::startPush(int i, const Location& target)
 // Simulation.
 void Compressor::pushStep(int i, double dt)
 {
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   const Vec2 d = this->Target[i] - x[i];
   const double remaining = norm(d);
   const double h = this->Sys->localLength(i);
@@ -1497,7 +1497,7 @@ void Compressor::pushStep(int i, double dt)
 
 void Compressor::railStep(int i, double dt)
 {
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   // First-order motion along the rail: the vertex moves by dt^2 F_t / m_i (the step the
   // particle would make from rest), with no momentum. With the stable mass m_i this is at
   // most half the step to the equilibrium of its springs along the rail, so the rails settle
@@ -1555,7 +1555,7 @@ void Compressor::railStep(int i, double dt)
 // criterion picks the end to push.
 std::size_t Compressor::pushNewCrossings()
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const std::size_t nv = x.size();
   const auto crossable = [&](int a, int b)
   {
@@ -1718,7 +1718,7 @@ bool Compressor::flipValid(int t, int k) const
   {
     return false;
   }
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
   const std::array<int, 3>& tu = this->Tri[u];
   const int j = tu[0] == b ? 0 : (tu[1] == b ? 1 : 2);
@@ -1784,7 +1784,7 @@ bool Compressor::tryFlip(int t, int k, bool degenerate)
   {
     return false;
   }
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const Quad q = this->quadOf(t, k);
   const int u = q.u, a = q.a, b = q.b, c = q.c, d = q.d;
   const double before = std::min(minAngleSine(x[a], x[b], x[c]), minAngleSine(x[b], x[a], x[d]));
@@ -1811,7 +1811,7 @@ std::size_t Compressor::flipDegenerate()
   }
   static const double smallSine = std::sin(kSmallAngle * 3.14159265358979323846 / 180.0);
   std::size_t flips = 0;
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
     this->poll(t);
@@ -1868,11 +1868,11 @@ std::size_t Compressor::unblockPushes()
 // the last update, or are pushed, and their neighbours stay awake; the others are not
 // integrated and springs between sleeping particles are not evaluated until they wake.
 // Returns the number of moving particles.
-std::size_t Compressor::refreshAwake(std::vector<Vec2>& windowStart)
+std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const std::size_t nv = x.size();
-  std::vector<std::uint8_t> awake(nv, 0);
+  LargeVector<std::uint8_t> awake(nv, 0);
   std::size_t moving = 0;
   for (int i = 0; i < this->NumActive; ++i)
   {
@@ -1903,7 +1903,7 @@ void Compressor::simulate()
   const int n = this->NumActive;
   int settled = 0, waves = 0, it = 0;
   bool wasPushing = true;
-  std::vector<Vec2> windowStart = this->Sys->positions();
+  LargeVector<Vec2> windowStart = this->Sys->positions();
   for (; it < maxIt; ++it)
   {
     this->At = 0.1 + 0.6 * static_cast<double>(it) / maxIt;
@@ -2018,7 +2018,7 @@ bool Compressor::movedLessThanGridDistance(int g, double moved, StripTreeScratch
 // its answers: the cells only spare strip-tree queries whose answer they already know.
 void Compressor::buildCurveCells()
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   std::vector<double> longest;
   for (std::size_t t = 0; t < this->Tri.size(); t += 16)
   {
@@ -2065,7 +2065,7 @@ int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
 
 int Compressor::faceTag(int t)
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const std::array<int, 3>& tri = this->Tri[t];
   return this->faceTag(tri[0], tri[1], tri[2], x[tri[0]], x[tri[1]], x[tri[2]]);
 }
@@ -2112,7 +2112,7 @@ void Compressor::writeBack()
     this->poll(t);
     this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
   }
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   for (std::size_t i = 0; i < this->Global.size(); ++i)
   {
     this->Result.points[this->Global[i]] = x[i];
@@ -2270,7 +2270,7 @@ CompressionResult compress(const TriangleMesh& grid,
   result.firstInsertedPoint = np;
   result.triangles = grid.triangles;
   result.triangleLevel =
-    grid.triangleLevel.size() == nt ? grid.triangleLevel : std::vector<int>(nt, 0);
+    grid.triangleLevel.size() == nt ? grid.triangleLevel : LargeVector<int>(nt, 0);
   result.triangleRegion = classification.cellRegion;
   result.vertexState.assign(np, VertexUntouched);
   if (nt == 0 || model.empty())

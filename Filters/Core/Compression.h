@@ -176,12 +176,12 @@ enum CompressedVertex : std::int8_t
 
 struct CompressionResult
 {
-  std::vector<Vec2> points;                  ///< final positions (local coordinates)
-  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise (after flips)
-  std::vector<int> triangleLevel;            ///< grid level (a flipped pair: the finer of both)
+  LargeVector<Vec2> points;                  ///< final positions (local coordinates)
+  LargeVector<std::array<int, 3>> triangles; ///< counter-clockwise (after flips)
+  LargeVector<int> triangleLevel;            ///< grid level (a flipped pair: the finer of both)
   /// Section 5 face classification: region of each triangle's barycentre (-1 exterior).
-  std::vector<int> triangleRegion;
-  std::vector<std::int8_t> vertexState; ///< CompressedVertex per point
+  LargeVector<int> triangleRegion;
+  LargeVector<std::int8_t> vertexState; ///< CompressedVertex per point
   int iterations = 0;                   ///< simulation steps run
   std::size_t simulatedVertices = 0;    ///< vertices in the simulated zone
   std::size_t pushedVertices = 0;       ///< vertices marked to be pushed
@@ -222,8 +222,8 @@ CompressionResult compress(const TriangleMesh& grid,
 /// counter-clockwise and the smaller of the two triangles' smallest angles grows; repeated
 /// until nothing changes or `passes` passes. Returns the number of flips. The simulation
 /// applies the same rule to its sub-mesh (also to triangles below 10% of their rest area).
-std::size_t flipDegenerateTriangles(const std::vector<Vec2>& points,
-  std::vector<std::array<int, 3>>& triangles,
+std::size_t flipDegenerateTriangles(const LargeVector<Vec2>& points,
+  LargeVector<std::array<int, 3>>& triangles,
   double smallAngle = 10.0,
   int passes = 8);
 
@@ -231,8 +231,8 @@ std::size_t flipDegenerateTriangles(const std::vector<Vec2>& points,
 /// triangle of `star` (ids of triangles containing i) counter-clockwise with twice-area at
 /// least min(minTwiceArea[t], its current twice-area) and > 0: the paper's restrain test
 /// (6.3), with two cross products per (vertex, opposite edge) pair.
-bool restrainAccepts(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles,
+bool restrainAccepts(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles,
   const int* star,
   int starSize,
   int i,

@@ -5,6 +5,7 @@
 #define StrataMeshCore_Compressor_h
 
 #include "Compression.h"
+#include "LargeArray.h"
 
 #include <algorithm>
 #include <array>
@@ -143,7 +144,7 @@ private:
   void pushStep(int i, double dt);
   void railStep(int i, double dt);
   std::size_t pushNewCrossings();
-  std::size_t refreshAwake(std::vector<Vec2>& windowStart);
+  std::size_t refreshAwake(LargeVector<Vec2>& windowStart);
   double lowerDistance(int i) const
   {
     const int g = this->Global[i];
@@ -202,7 +203,7 @@ private:
   // The four faces made by splitting that edge at w: (a, w, c), (w, b, c), (b, w, d), (w, a, d).
   std::array<std::array<Vec2, 3>, 4> splitFaces(const Quad& q, Vec2 w) const
   {
-    const std::vector<Vec2>& x = this->Sys->positions();
+    const auto& x = this->Sys->positions();
     return {
       { { x[q.a], w, x[q.c] }, { w, x[q.b], x[q.c] }, { x[q.b], w, x[q.d] }, { w, x[q.a], x[q.d] } }
     };
@@ -263,13 +264,13 @@ private:
   }
   double twiceArea(int t) const
   {
-    const std::vector<Vec2>& x = this->Sys->positions();
+    const auto& x = this->Sys->positions();
     return orient2d(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
   bool onCurve(int i) const { return this->St[i] == Rail || this->St[i] == Pinned; }
   double triMinAngleSine(int t) const
   {
-    const std::vector<Vec2>& x = this->Sys->positions();
+    const auto& x = this->Sys->positions();
     return minAngleSine(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
   void writeBack();
@@ -294,46 +295,46 @@ private:
   Guard TheGuard;
 
   // Global mesh (grid ids).
-  std::vector<Vec2> Points; // positions before the simulation (junctions snapped)
-  std::vector<int> GStarStart, GStarItems;
-  std::vector<std::uint8_t> Candidate, Push;
-  std::vector<double> Distance;    // boundary distance (NaN: not computed)
-  std::vector<int> JunctionOf;     // junction node a vertex was placed on, or -1
-  std::vector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
+  LargeVector<Vec2> Points; // positions before the simulation (junctions snapped)
+  LargeVector<int> GStarStart, GStarItems;
+  LargeVector<std::uint8_t> Candidate, Push;
+  LargeVector<double> Distance;    // boundary distance (NaN: not computed)
+  LargeVector<int> JunctionOf;     // junction node a vertex was placed on, or -1
+  LargeVector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
 
   // Sub-mesh (local ids).
-  std::vector<int> Global;  // local vertex -> grid vertex
-  std::vector<int> LocalOf; // grid vertex -> local vertex, -1
+  LargeVector<int> Global;  // local vertex -> grid vertex
+  LargeVector<int> LocalOf; // grid vertex -> local vertex, -1
   int NumActive = 0;        // local ids below are simulated
-  std::vector<std::array<int, 3>> Tri, Nbr, TriEdge;
-  std::vector<int> TriGlobal, Level, Tag;
-  std::vector<double> RestTwice, MinTwice;
-  std::vector<int> StarStart, StarItems;
+  LargeVector<std::array<int, 3>> Tri, Nbr, TriEdge;
+  LargeVector<int> TriGlobal, Level, Tag;
+  LargeVector<double> RestTwice, MinTwice;
+  LargeVector<int> StarStart, StarItems;
   // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
   // updateStars() (marks) and the triangle count they were built for.
-  std::vector<int> Flipped;
-  std::vector<std::uint8_t> FlippedMark;
+  LargeVector<int> Flipped;
+  LargeVector<std::uint8_t> FlippedMark;
   std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 
   // Per local vertex.
-  std::vector<std::uint8_t> St;
-  std::vector<Vec2> Target;
-  std::vector<Location> Loc;         // push target, then position on the rail
-  std::vector<Location> FirstTarget; // closest point when the push started
-  std::vector<std::uint8_t> PinOnArrival;
-  std::vector<int> Stuck, Retargets, PushSteps, Budget;
-  std::vector<int> VRegion;          // region of vertices off the curves, kOnCurve for the others
-  std::vector<std::uint8_t> Claimed; // per model node: a vertex is (going) there
-  std::vector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push
-  std::vector<Vec2> Candidates;             // smoothing scratch
+  LargeVector<std::uint8_t> St;
+  LargeVector<Vec2> Target;
+  LargeVector<Location> Loc;         // push target, then position on the rail
+  LargeVector<Location> FirstTarget; // closest point when the push started
+  LargeVector<std::uint8_t> PinOnArrival;
+  LargeVector<int> Stuck, Retargets, PushSteps, Budget;
+  LargeVector<int> VRegion;          // region of vertices off the curves, kOnCurve for the others
+  LargeVector<std::uint8_t> Claimed; // per model node: a vertex is (going) there
+  LargeVector<std::pair<int, int>> Blocked; // (triangle, edge) blocking a push
+  LargeVector<Vec2> Candidates;             // smoothing scratch
   // After the simulation (optimization): local edge length per vertex, and the first local id
   // of the vertices inserted by the boundary refinement (they are simulated ones too).
-  std::vector<double> H;
-  std::vector<int> StuckVertices; // pushes that never arrived (free during the optimization)
+  LargeVector<double> H;
+  LargeVector<int> StuckVertices; // pushes that never arrived (free during the optimization)
   // Faces with an angle below kGoodAngle at the start of an optimization round, and their
   // corners (ascending): the rounds only look at these.
-  std::vector<int> BadFaces, BadVertices;
+  LargeVector<int> BadFaces, BadVertices;
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
 };

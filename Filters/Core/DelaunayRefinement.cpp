@@ -532,10 +532,10 @@ private:
   std::size_t TipVertices = 0;  // (cutTips)
   std::size_t KeptVertices = 0; // (keepCorners)
   mutable std::size_t Ticks = 0;
-  std::vector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
-  std::vector<std::uint8_t> Live;      // positive area at the start (others are frozen)
+  LargeVector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
+  LargeVector<std::uint8_t> Live;      // positive area at the start (others are frozen)
   std::deque<int> Queue;
-  std::vector<int> Cavity, Mark;
+  LargeVector<int> Cavity, Mark;
   int Stamp = 0;
   struct Entry
   {
@@ -544,7 +544,7 @@ private:
     int level;
   };
   std::vector<Entry> Journal;
-  std::vector<int> Saved; // transaction that saved each slot
+  LargeVector<int> Saved; // transaction that saved each slot
   int Tx = 0;
   bool Recording = false;
   std::size_t Tri0 = 0, Points0 = 0, Flips0 = 0;
@@ -1082,7 +1082,7 @@ void Refiner::prepare()
 void Refiner::flipToDelaunay()
 {
   const std::size_t nt = this->M.triangles.size();
-  std::vector<std::array<int, 2>> stack;
+  LargeVector<std::array<int, 2>> stack;
   for (std::size_t t = 0; t < nt; ++t)
   {
     this->poll();
@@ -2744,7 +2744,7 @@ void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
 }
 } // namespace
 
-PointStars pointStars(std::size_t numberOfPoints, const std::vector<std::array<int, 3>>& triangles)
+PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles)
 {
   PointStars stars;
   stars.start.assign(numberOfPoints + 1, 0);

@@ -4,6 +4,7 @@
 #define StrataMeshCore_DelaunayRefinement_h
 
 #include "Geometry.h"
+#include "LargeArray.h"
 #include "Progress.h"
 
 #include <array>
@@ -115,10 +116,10 @@ void validate(const RefinementParams& params);
 /// area are never touched (their edges count as boundary edges).
 struct RegionMesh
 {
-  std::vector<Vec2> points;
-  std::vector<std::array<int, 3>> triangles;
-  std::vector<int> region; ///< per triangle
-  std::vector<int> level;  ///< per triangle (any tag, e.g. the grid level); pieces inherit it
+  LargeVector<Vec2> points;
+  LargeVector<std::array<int, 3>> triangles;
+  LargeVector<int> region; ///< per triangle
+  LargeVector<int> level;  ///< per triangle (any tag, e.g. the grid level); pieces inherit it
 };
 
 /// Where a region boundary edge from a to b (region `left` on its left, `right` on its right,
@@ -161,10 +162,10 @@ struct RefinementResult
 /// [0, numberOfPoints).
 struct PointStars
 {
-  std::vector<int> start; ///< numberOfPoints + 1 offsets
-  std::vector<int> items; ///< triangle ids
+  LargeVector<int> start; ///< numberOfPoints + 1 offsets
+  LargeVector<int> items; ///< triangle ids
 };
-PointStars pointStars(std::size_t numberOfPoints, const std::vector<std::array<int, 3>>& triangles);
+PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles);
 
 /// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips
 /// the mesh to constrained Delaunay, then inserts the off-centre of every bad triangle, or,

@@ -5,6 +5,7 @@
 
 #include "DistanceField.h"
 #include "Geometry.h"
+#include "LargeArray.h"
 #include "Model.h"
 #include "Progress.h"
 
@@ -20,20 +21,20 @@ namespace strata
 /// A triangle mesh in local model coordinates (the adapters add Model::origin back).
 struct TriangleMesh
 {
-  std::vector<Vec2> points;
+  LargeVector<Vec2> points;
   /// Counter-clockwise. For a mesh extracted from a Grid48 the first vertex is the right-angle
   /// vertex and triangles[i][1] - triangles[i][2] is the hypotenuse (the refinement edge).
-  std::vector<std::array<int, 3>> triangles;
-  std::vector<int> triangleLevel; ///< grid level of each triangle (may be empty elsewhere)
+  LargeVector<std::array<int, 3>> triangles;
+  LargeVector<int> triangleLevel; ///< grid level of each triangle (may be empty elsewhere)
   /// Level at which each point was created: 0 for the five vertices of level 0, l + 1 for the
   /// midpoint of a level-l hypotenuse, i.e. the first level whose mesh contains the point.
-  std::vector<int> pointLevel;
-  std::vector<int> triangleNode; ///< Grid48 hierarchy node of each triangle (or empty)
-  std::vector<int> pointVertex; ///< Grid48 vertex id of each point, stable across levels (or empty)
+  LargeVector<int> pointLevel;
+  LargeVector<int> triangleNode; ///< Grid48 hierarchy node of each triangle (or empty)
+  LargeVector<int> pointVertex; ///< Grid48 vertex id of each point, stable across levels (or empty)
   /// Distance from each point to the nearest model boundary when already known (the grid
   /// computed it for its refinement criterion), NaN when not known; empty = none known.
   /// classify() uses the known values instead of querying the distance field again.
-  std::vector<double> pointBoundaryDistance;
+  LargeVector<double> pointBoundaryDistance;
 
   std::size_t numberOfPoints() const { return this->points.size(); }
   std::size_t numberOfTriangles() const { return this->triangles.size(); }
@@ -362,16 +363,16 @@ private:
   int MaxLeafLevel = 0;
 
   // Nodes (struct of arrays).
-  std::vector<std::array<int, 3>> Vert;
-  std::vector<std::array<int, 3>> Nbr;
-  std::vector<int> Child;
-  std::vector<std::uint8_t> Level; // level in the low 6 bits, refinement flags above
-  std::vector<int> PairParent;     // parent of nodes 4 + 2k and 5 + 2k
+  LargeVector<std::array<int, 3>> Vert;
+  LargeVector<std::array<int, 3>> Nbr;
+  LargeVector<int> Child;
+  LargeVector<std::uint8_t> Level; // level in the low 6 bits, refinement flags above
+  LargeVector<int> PairParent;     // parent of nodes 4 + 2k and 5 + 2k
 
   // Vertices.
-  std::vector<std::array<std::uint32_t, 2>> Lattice;
-  std::vector<std::uint8_t> VertexLevel;
-  std::vector<double> VertexDistance; // boundary distance when computed, else NaN
+  LargeVector<std::array<std::uint32_t, 2>> Lattice;
+  LargeVector<std::uint8_t> VertexLevel;
+  LargeVector<double> VertexDistance; // boundary distance when computed, else NaN
 };
 
 } // namespace strata

@@ -100,9 +100,9 @@ void forEachSharpCorner(const Model& model, double below, Visit&& visit)
 // where a region's own angle is below kSharpCorner: the input forces it (a vertex is placed
 // exactly on every junction and on the corners the rails stop at).
 std::vector<char> atSharpCorners(const Model& model,
-  const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles,
-  const std::vector<double>& minAngle)
+  const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles,
+  const LargeVector<double>& minAngle)
 {
   constexpr double kSharpCorner = 25.0;
   std::map<std::pair<double, double>, double> sharp;
@@ -213,8 +213,8 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
 {
   const std::size_t np = mesh.points.size();
   const PointStars stars = pointStars(np, mesh.triangles);
-  const std::vector<int>& start = stars.start;
-  const std::vector<int>& star = stars.items;
+  const auto& start = stars.start;
+  const auto& star = stars.items;
   std::size_t moved = 0;
   for (std::size_t v = 0; v < np; ++v)
   {
@@ -908,9 +908,9 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
 }
 } // namespace
 
-std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles,
-  const std::vector<int>& region)
+std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles,
+  const LargeVector<int>& region)
 {
   const std::size_t np = points.size();
   // Directed edges of the kept triangles, by start vertex.
@@ -1202,7 +1202,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
     result.level.push_back(compressed.triangleLevel[t]);
   }
   progress.report(0.95, "writing the mesh");
-  const std::vector<TriangleQuality> q = triangleQualities(result.points, result.triangles);
+  const LargeVector<TriangleQuality> q = triangleQualities(result.points, result.triangles);
   progress.report(0.95, "writing the mesh");
   result.minAngle.resize(q.size());
   result.maxAngle.resize(q.size());
@@ -1491,6 +1491,21 @@ MesherResult triangulateOnce(const RawPolylines& input,
   return result;
 }
 
+// The end of a run made twice: the kept mesh, with the other run's seconds first among its
+// stages (as `stage`) and the total of both.
+MesherResult keepOne(MesherResult&& kept,
+  const MesherResult& other,
+  const char* stage,
+  Clock::time_point begin,
+  const ProgressReporter& progress)
+{
+  kept.summary.secondsPerStage.insert(
+    kept.summary.secondsPerStage.begin(), { stage, other.summary.totalSeconds });
+  kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
+  progress.report(1.0, "done");
+  return std::move(kept);
+}
+
 // triangulate() without the finer level's retry.
 MesherResult triangulateWithThinLayers(const RawPolylines& input,
   const MesherParams& params,
@@ -1550,11 +1565,7 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
     " missed the angle or area bound (" + figures(first) + "), so a mesh " +
     (thinFirst ? without : with) + " was made too (" + figures(second) + "); the " +
     (keepSecond ? "second" : "first") + " one is kept");
-  kept.summary.secondsPerStage.insert(
-    kept.summary.secondsPerStage.begin(), { "discarded run", other.summary.totalSeconds });
-  kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
-  progress.report(1.0, "done");
-  return kept;
+  return keepOne(std::move(kept), other, "discarded run", begin, progress);
 }
 
 } // namespace
@@ -1608,11 +1619,7 @@ MesherResult triangulate(const RawPolylines& input,
     finer.summary.triangles,
     keepFiner ? "finer" : "first");
   kept.warnings.push_back(text);
-  kept.summary.secondsPerStage.insert(
-    kept.summary.secondsPerStage.begin(), { "discarded level run", other.summary.totalSeconds });
-  kept.summary.totalSeconds = std::chrono::duration<double>(Clock::now() - begin).count();
-  progress.report(1.0, "done");
-  return kept;
+  return keepOne(std::move(kept), other, "discarded level run", begin, progress);
 }
 
 } // namespace strata

@@ -79,15 +79,15 @@ struct MesherParams
 struct MesherResult
 {
   Vec2 origin;                               ///< add to local coordinates for input ones
-  std::vector<Vec2> points;                  ///< local; only points used by triangles
-  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise, exterior triangles dropped
-  std::vector<int> regionId;                 ///< per triangle: region id (>= 0)
-  std::vector<int> level;                    ///< per triangle: grid level
-  std::vector<double> minAngle, maxAngle;    ///< per triangle, degrees
-  std::vector<double> radiusRatio;           ///< per triangle, 2 r / R (1 equilateral)
-  std::vector<double> area;                  ///< per triangle, model units^2 (> 0)
-  std::vector<std::int8_t> vertexClass;      ///< per point: 0 exterior, 1 boundary, 2 interior
-  std::vector<Vec2> displacement; ///< per point: final minus grid position (0 if inserted)
+  LargeVector<Vec2> points;                  ///< local; only points used by triangles
+  LargeVector<std::array<int, 3>> triangles; ///< counter-clockwise, exterior triangles dropped
+  LargeVector<int> regionId;                 ///< per triangle: region id (>= 0)
+  LargeVector<int> level;                    ///< per triangle: grid level
+  LargeVector<double> minAngle, maxAngle;    ///< per triangle, degrees
+  LargeVector<double> radiusRatio;           ///< per triangle, 2 r / R (1 equilateral)
+  LargeVector<double> area;                  ///< per triangle, model units^2 (> 0)
+  LargeVector<std::int8_t> vertexClass;      ///< per point: 0 exterior, 1 boundary, 2 interior
+  LargeVector<Vec2> displacement; ///< per point: final minus grid position (0 if inserted)
 
   /// A piece of the approximated boundary (edges whose two faces have different regions, and
   /// the outer border of the kept triangles) in the Shared curves form: `left` lies to the
@@ -196,9 +196,9 @@ MesherResult triangulate(const RawPolylines& input,
 
 /// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
 /// triangles with region -1 count as absent.
-std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles,
-  const std::vector<int>& region);
+std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles,
+  const LargeVector<int>& region);
 
 } // namespace strata
 

@@ -103,7 +103,7 @@ std::vector<int> Compressor::offCurveBoundaryVertices() const
 // opposite i flipped (when valid) and the move is tried again.
 bool Compressor::placeOnCurve(int i, const Location& target, double minFraction)
 {
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   const Vec2 goal = this->Rails.position(target);
   for (int attempt = 0; attempt < 3; ++attempt)
   {
@@ -337,7 +337,7 @@ std::size_t Compressor::optimizeFlips()
 
 double Compressor::starMinAngle(int i, Vec2 p) const
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   double m = 1.0;
   for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
   {
@@ -353,7 +353,7 @@ std::size_t Compressor::smooth()
 {
   static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   for (const int& i : this->BadVertices)
   {
     this->pollEach(static_cast<std::size_t>(&i - this->BadVertices.data()));
@@ -399,7 +399,7 @@ std::size_t Compressor::smooth()
       c = (1.0 / count) * c;
       // Candidates: toward the centroid of the neighbours, and toward each neighbour; the one
       // with the largest smallest angle wins if it beats the current position.
-      std::vector<Vec2>& candidates = this->Candidates;
+      auto& candidates = this->Candidates;
       candidates.clear();
       for (double f : { 1.0, 0.5, 0.25 })
       {
@@ -514,7 +514,7 @@ Compressor::ChainPiece Compressor::boundaryPiece(int t, int k) const
   ChainPiece best;
   const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   for (const Location& la : this->locationsOf(a))
   {
     for (const Location& lb : this->locationsOf(b))
@@ -680,7 +680,7 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
 // the regions of the faces they come from. The caller checked that all four are valid.
 void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region)
 {
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   const Quad q = this->quadOf(t, k);
   const int u = q.u, j = q.j, a = q.a, b = q.b, c = q.c, d = q.d;
   // The new vertex.
@@ -767,7 +767,7 @@ bool Compressor::followsCurves(int i, Vec2 p, const Location& l)
     return true;
   }
   // Relative deviation of the worst boundary edge at i (0 when none is out of tolerance).
-  std::vector<Vec2>& x = this->Sys->positions();
+  auto& x = this->Sys->positions();
   const auto worst = [&]()
   {
     double w = 0.0;
@@ -810,7 +810,7 @@ bool Compressor::deviatingEdge(int t, int k, int nt, ChainPiece& piece) const
     return false;
   }
   piece = this->boundaryPiece(t, k);
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   return piece.farthest >= 0 &&
     piece.deviation > this->Params.boundaryTolerance * norm(x[b] - x[a]);
 }
@@ -833,7 +833,7 @@ BoundaryRails::Location Compressor::farthestLocation(const ChainPiece& piece) co
 bool Compressor::pullIntoBulge(int t, int k, const Location& far)
 {
   static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
   const Vec2 w = this->Rails.position(far);
   const Quad q = this->quadOf(t, k);
@@ -897,7 +897,7 @@ std::size_t Compressor::refineAngles()
 {
   static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   this->detach();
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const int nt = static_cast<int>(this->Tri.size());
   const std::size_t budget = this->Tri.size() / 10 + 16;
   std::size_t added = 0;
@@ -1068,7 +1068,7 @@ bool Compressor::insidePiece(const ChainPiece& piece, const Location& l) const
 // region boundary does not change: the faces around i all had one region.
 bool Compressor::collapseInto(int i, int v)
 {
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   const int si0 = this->StarStart[i], si1 = this->StarStart[i + 1];
   const int sv0 = this->StarStart[v], sv1 = this->StarStart[v + 1];
   std::array<int, 2> f{ -1, -1 };
@@ -1224,7 +1224,7 @@ bool Compressor::collapseInto(int i, int v)
 std::size_t Compressor::collapseSqueezed()
 {
   static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
-  const std::vector<Vec2>& x = this->Sys->positions();
+  const auto& x = this->Sys->positions();
   std::vector<std::uint8_t> touched(this->Global.size(), 0);
   std::size_t collapsed = 0;
   for (const int& i : this->BadVertices)

@@ -97,10 +97,10 @@ TriangleQuality triangleQuality(Vec2 a, Vec2 b, Vec2 c)
   return q;
 }
 
-std::vector<TriangleQuality> triangleQualities(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles)
+LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles)
 {
-  std::vector<TriangleQuality> out(triangles.size());
+  LargeVector<TriangleQuality> out(triangles.size());
   const int n = static_cast<int>(points.size());
   for (std::size_t t = 0; t < triangles.size(); ++t)
   {
@@ -118,7 +118,7 @@ std::vector<TriangleQuality> triangleQualities(const std::vector<Vec2>& points,
   return out;
 }
 
-QualitySummary summarizeQuality(const std::vector<TriangleQuality>& qualities)
+QualitySummary summarizeQuality(const LargeVector<TriangleQuality>& qualities)
 {
   QualitySummary s;
   s.triangles = qualities.size();
@@ -157,8 +157,8 @@ QualitySummary summarizeQuality(const std::vector<TriangleQuality>& qualities)
   return s;
 }
 
-QualitySummary summarizeQuality(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles)
+QualitySummary summarizeQuality(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles)
 {
   return summarizeQuality(triangleQualities(points, triangles));
 }

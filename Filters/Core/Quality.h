@@ -4,6 +4,7 @@
 #define StrataMeshCore_Quality_h
 
 #include "Geometry.h"
+#include "LargeArray.h"
 
 #include <algorithm>
 #include <array>
@@ -66,15 +67,15 @@ struct QualitySummary
 
 /// Quality of every triangle of a mesh (indices into points; throws ParameterError for an
 /// index out of range).
-std::vector<TriangleQuality> triangleQualities(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles);
+LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles);
 
 /// Summary over the given per-triangle qualities (an empty list gives zeros).
-QualitySummary summarizeQuality(const std::vector<TriangleQuality>& qualities);
+QualitySummary summarizeQuality(const LargeVector<TriangleQuality>& qualities);
 
 /// Summary of a mesh's quality (triangleQualities, then summarizeQuality).
-QualitySummary summarizeQuality(const std::vector<Vec2>& points,
-  const std::vector<std::array<int, 3>>& triangles);
+QualitySummary summarizeQuality(const LargeVector<Vec2>& points,
+  const LargeVector<std::array<int, 3>>& triangles);
 
 } // namespace strata
 

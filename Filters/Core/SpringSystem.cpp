@@ -65,9 +65,9 @@ void validate(const SpringParams& p)
   checkRange(p.maxStep > 0.0 && p.maxStep <= 1.0, "MaxStep", p.maxStep, "(0, 1]");
 }
 
-std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles)
+LargeVector<std::array<int, 2>> uniqueEdges(const LargeVector<std::array<int, 3>>& triangles)
 {
-  std::vector<std::array<int, 2>> edges;
+  LargeVector<std::array<int, 2>> edges;
   edges.reserve(triangles.size() * 3);
   for (const std::array<int, 3>& t : triangles)
   {
@@ -206,7 +206,7 @@ inline void edgeKernel2(__m128d dxx,
 
 //------------------------------------------------------------------------------
 // Edge springs.
-void EdgeSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest)
+void EdgeSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest)
 {
   this->Rest.resize(mesh.edges.size());
   for (std::size_t e = 0; e < mesh.edges.size(); ++e)
@@ -216,7 +216,7 @@ void EdgeSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& re
 }
 
 void EdgeSprings::flipped(const SpringMesh& mesh,
-  const std::vector<Vec2>& x,
+  const LargeVector<Vec2>& x,
   int edge,
   int /*t0*/,
   int /*t1*/)
@@ -286,7 +286,7 @@ void EdgeSprings::addForces(const SpringMesh& mesh,
 }
 
 double EdgeSprings::energy(const SpringMesh& mesh,
-  const std::vector<Vec2>& x,
+  const LargeVector<Vec2>& x,
   const SpringParams& params) const
 {
   double sum = 0.0;
@@ -300,7 +300,7 @@ double EdgeSprings::energy(const SpringMesh& mesh,
 
 //------------------------------------------------------------------------------
 // Projection springs.
-void ProjectionSprings::restOf(const SpringMesh& mesh, const std::vector<Vec2>& x, int t)
+void ProjectionSprings::restOf(const SpringMesh& mesh, const LargeVector<Vec2>& x, int t)
 {
   const std::array<int, 3>& tri = mesh.triangles[t];
   for (int k = 0; k < 3; ++k)
@@ -311,7 +311,7 @@ void ProjectionSprings::restOf(const SpringMesh& mesh, const std::vector<Vec2>& 
   }
 }
 
-void ProjectionSprings::initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest)
+void ProjectionSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest)
 {
   this->Rest.assign(3 * mesh.triangles.size(), 0.0);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -321,7 +321,7 @@ void ProjectionSprings::initialize(const SpringMesh& mesh, const std::vector<Vec
 }
 
 void ProjectionSprings::flipped(const SpringMesh& mesh,
-  const std::vector<Vec2>& x,
+  const LargeVector<Vec2>& x,
   int /*edge*/,
   int t0,
   int t1)
@@ -462,7 +462,7 @@ void ProjectionSprings::addForces(const SpringMesh& mesh,
 }
 
 double ProjectionSprings::energy(const SpringMesh& mesh,
-  const std::vector<Vec2>& x,
+  const LargeVector<Vec2>& x,
   const SpringParams& params) const
 {
   double sum = 0.0;
@@ -493,8 +493,8 @@ std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration confi
 
 //------------------------------------------------------------------------------
 SpringSystem::SpringSystem(SpringMesh mesh,
-  std::vector<Vec2> positions,
-  const std::vector<Vec2>& rest,
+  LargeVector<Vec2> positions,
+  const LargeVector<Vec2>& rest,
   const SpringParams& params)
   : Params(params)
   , Mesh(std::move(mesh))
@@ -532,7 +532,7 @@ SpringSystem::SpringSystem(SpringMesh mesh,
   this->K.assign(n, 0.0);
   this->Kind.assign(n, static_cast<std::uint8_t>(ParticleKind::Free));
   this->Local.assign(n, 0.0);
-  std::vector<int> count(n, 0);
+  LargeVector<int> count(n, 0);
   for (const std::array<int, 2>& e : this->Mesh.edges)
   {
     const double l = norm(this->Rest[e[0]] - this->Rest[e[1]]);
@@ -551,7 +551,7 @@ SpringSystem::SpringSystem(SpringMesh mesh,
   }
 }
 
-SpringSystem::SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const SpringParams& params)
+SpringSystem::SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const SpringParams& params)
   : SpringSystem(std::move(mesh), positions, positions, params)
 {
 }
@@ -562,7 +562,7 @@ void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
   this->Sets.push_back(std::move(set));
 }
 
-void SpringSystem::setAwake(const std::vector<std::uint8_t>& awake)
+void SpringSystem::setAwake(const LargeVector<std::uint8_t>& awake)
 {
   this->Awake = awake;
   this->LiveEdges.clear();

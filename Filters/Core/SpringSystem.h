@@ -5,6 +5,7 @@
 #define StrataMeshCore_SpringSystem_h
 
 #include "Geometry.h"
+#include "LargeArray.h"
 
 #include <algorithm>
 #include <array>
@@ -51,12 +52,12 @@ struct SpringParams
 /// by triangle corner, so ids stay valid through edge flips (SpringSystem::flip).
 struct SpringMesh
 {
-  std::vector<std::array<int, 3>> triangles; ///< counter-clockwise
-  std::vector<std::array<int, 2>> edges;     ///< each undirected edge once
+  LargeVector<std::array<int, 3>> triangles; ///< counter-clockwise
+  LargeVector<std::array<int, 2>> edges;     ///< each undirected edge once
 };
 
 /// Unique edges of a triangle list (sorted end points, ordered).
-std::vector<std::array<int, 2>> uniqueEdges(const std::vector<std::array<int, 3>>& triangles);
+LargeVector<std::array<int, 2>> uniqueEdges(const LargeVector<std::array<int, 3>>& triangles);
 
 /// Paper 6.1, edge spring (Hooke's law with damping): the force on end a of a spring with
 /// dx = xa - xb, dv = va - vb and rest length x0:
@@ -109,11 +110,11 @@ public:
   virtual ~SpringSet() = default;
   virtual const char* name() const = 0;
   /// Rest lengths of every spring from the rest positions.
-  virtual void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) = 0;
+  virtual void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) = 0;
   /// After SpringSystem::flip: new rest lengths (the current ones) of the springs of edge
   /// `edge` and of triangles t0 and t1.
   virtual void flipped(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     int edge,
     int t0,
     int t1) = 0;
@@ -127,7 +128,7 @@ public:
     const SpringParams& params) const = 0;
   /// Potential energy of all springs.
   virtual double energy(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     const SpringParams& params) const = 0;
 };
 
@@ -136,9 +137,9 @@ class EdgeSprings : public SpringSet
 {
 public:
   const char* name() const override { return "edge"; }
-  void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
+  void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
   void flipped(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     int edge,
     int t0,
     int t1) override;
@@ -146,11 +147,11 @@ public:
     const ParticleState& s,
     const SpringParams& params) const override;
   double energy(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     const SpringParams& params) const override;
 
 private:
-  std::vector<double> Rest;
+  LargeVector<double> Rest;
 };
 
 /// One projection spring per triangle corner (paper 6.1, Figure 8): the corner against an
@@ -162,9 +163,9 @@ class ProjectionSprings : public SpringSet
 {
 public:
   const char* name() const override { return "projection"; }
-  void initialize(const SpringMesh& mesh, const std::vector<Vec2>& rest) override;
+  void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
   void flipped(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     int edge,
     int t0,
     int t1) override;
@@ -172,12 +173,12 @@ public:
     const ParticleState& s,
     const SpringParams& params) const override;
   double energy(const SpringMesh& mesh,
-    const std::vector<Vec2>& x,
+    const LargeVector<Vec2>& x,
     const SpringParams& params) const override;
 
 private:
-  void restOf(const SpringMesh& mesh, const std::vector<Vec2>& x, int t);
-  std::vector<double> Rest; // 3 per triangle
+  void restOf(const SpringMesh& mesh, const LargeVector<Vec2>& x, int t);
+  LargeVector<double> Rest; // 3 per triangle
 };
 
 /// How a particle is treated by SpringSystem::step.
@@ -221,11 +222,11 @@ public:
   /// Rest lengths from `rest` (same size as positions). Throws ParameterError for
   /// parameters out of range, sizes that differ or indices out of range.
   SpringSystem(SpringMesh mesh,
-    std::vector<Vec2> positions,
-    const std::vector<Vec2>& rest,
+    LargeVector<Vec2> positions,
+    const LargeVector<Vec2>& rest,
     const SpringParams& params = {});
   /// Rest lengths from the initial positions.
-  SpringSystem(SpringMesh mesh, std::vector<Vec2> positions, const SpringParams& params = {});
+  SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const SpringParams& params = {});
 
   /// Adds a spring set (initialised from the rest positions given at construction).
   void addSpringSet(std::unique_ptr<SpringSet> set);
@@ -235,11 +236,11 @@ public:
   const SpringParams& params() const { return this->Params; }
   const SpringMesh& mesh() const { return this->Mesh; }
 
-  std::vector<Vec2>& positions() { return this->X; }
-  const std::vector<Vec2>& positions() const { return this->X; }
-  std::vector<Vec2>& velocities() { return this->V; }
-  const std::vector<Vec2>& velocities() const { return this->V; }
-  const std::vector<Vec2>& forces() const { return this->F; }
+  LargeVector<Vec2>& positions() { return this->X; }
+  const LargeVector<Vec2>& positions() const { return this->X; }
+  LargeVector<Vec2>& velocities() { return this->V; }
+  const LargeVector<Vec2>& velocities() const { return this->V; }
+  const LargeVector<Vec2>& forces() const { return this->F; }
   ParticleKind kind(int i) const { return static_cast<ParticleKind>(this->Kind[i]); }
   void setKind(int i, ParticleKind kind);
   /// Mean rest length of the particle's edges (1 for a particle without edges).
@@ -255,7 +256,7 @@ public:
   /// Sleeping: only awake particles are integrated, and only springs touching an awake
   /// particle are evaluated (the forces on awake particles are then complete; those on
   /// sleeping ones are not computed). An empty mask wakes every particle.
-  void setAwake(const std::vector<std::uint8_t>& awake);
+  void setAwake(const LargeVector<std::uint8_t>& awake);
   bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
 
   /// Phase 1: resets the force accumulators and adds the contribution of every spring.
@@ -287,23 +288,23 @@ public:
 private:
   SpringParams Params;
   SpringMesh Mesh;
-  std::vector<Vec2> X, V, F, Rest;
-  std::vector<double> K;
-  std::vector<Vec2> F1;   // the second half's forces (computeForces)
-  std::vector<double> K1; // and stiffnesses
+  LargeVector<Vec2> X, V, F, Rest;
+  LargeVector<double> K;
+  LargeVector<Vec2> F1;   // the second half's forces (computeForces)
+  LargeVector<double> K1; // and stiffnesses
   // integrate's halves: [0, SplitAt) and [SplitAt, n); Seam marks the particles with a
   // triangle in both, moved after the halves (empty until a split step).
   std::size_t SplitAt = 0;
-  std::vector<std::uint8_t> Seam;
+  LargeVector<std::uint8_t> Seam;
   bool splits() const; // whether a step is split (SpringParams::splitSprings)
   double moveParticle(std::size_t i, double dt, MoveGuard* guard);
   void findSeam();
   void markSeam(const std::array<int, 3>& t);
-  std::vector<std::uint8_t> Awake;
-  std::vector<int> LiveEdges, LiveTriangles;
-  std::vector<std::uint8_t> LiveEdge, LiveTriangle;
-  std::vector<std::uint8_t> Kind;
-  std::vector<double> Local;
+  LargeVector<std::uint8_t> Awake;
+  LargeVector<int> LiveEdges, LiveTriangles;
+  LargeVector<std::uint8_t> LiveEdge, LiveTriangle;
+  LargeVector<std::uint8_t> Kind;
+  LargeVector<double> Local;
   std::vector<std::unique_ptr<SpringSet>> Sets;
 };
 

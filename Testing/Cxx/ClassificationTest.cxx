@@ -403,8 +403,8 @@ TEST(ClassificationTest, an_edge_across_a_thin_region_is_an_intersection_edge)
   mesh.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
   const Classification c = strata::classify(mesh, model, field);
   ASSERT_EQ(c.edges.size(), 5u);
-  EXPECT_EQ(c.vertexClass, (std::vector<std::int8_t>{ 2, 2, 2, 0 }));
-  EXPECT_EQ(c.vertexRegion, (std::vector<int>{ 0, 0, 0, -1 }));
+  EXPECT_EQ(c.vertexClass, (strata::LargeVector<std::int8_t>{ 2, 2, 2, 0 }));
+  EXPECT_EQ(c.vertexRegion, (strata::LargeVector<int>{ 0, 0, 0, -1 }));
   for (std::size_t e = 0; e < c.edges.size(); ++e)
   {
     const auto& ab = c.edges[e];
@@ -428,7 +428,7 @@ TEST(ClassificationTest, an_edge_across_a_thin_region_is_an_intersection_edge)
       EXPECT_EQ(c.edgeRegion[e], 0);
     }
   }
-  EXPECT_EQ(c.cellRegion, (std::vector<int>{ 0, 0 }));
+  EXPECT_EQ(c.cellRegion, (strata::LargeVector<int>{ 0, 0 }));
 }
 
 TEST(ClassificationTest, boundary_tolerance_decides_boundary_vertices)

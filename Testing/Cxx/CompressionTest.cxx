@@ -17,10 +17,10 @@ namespace
 using strata::Vec2;
 
 // A closed loop of region 0 (Loops form).
-strata::RawPolylines loop(const std::vector<Vec2>& points)
+strata::RawPolylines loop(const strata::LargeVector<Vec2>& points)
 {
   strata::RawPolylines raw;
-  raw.points = points;
+  raw.points.assign(points.begin(), points.end());
   raw.offsets = { 0, static_cast<std::int64_t>(points.size()) + 1 };
   for (std::size_t i = 0; i < points.size(); ++i)
   {
@@ -40,7 +40,7 @@ strata::RawPolylines square(double side)
 // An irregular polygon (a "blob") with 40 vertices.
 strata::RawPolylines blob()
 {
-  std::vector<Vec2> p;
+  strata::LargeVector<Vec2> p;
   for (int i = 0; i < 40; ++i)
   {
     const double a = 2.0 * 3.14159265358979323846 * i / 40.0;
@@ -120,7 +120,7 @@ TEST(CompressionTest, RailsOfSharedCurvesEndAtJunctions)
   const strata::Model m =
     strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")));
   const strata::BoundaryRails rails(m, 140.0);
-  std::vector<int> isJunction(m.nodes.size(), 0);
+  strata::LargeVector<int> isJunction(m.nodes.size(), 0);
   for (int j : m.junctions)
   {
     isJunction[j] = 1;
@@ -191,8 +191,8 @@ TEST(CompressionTest, SlidingFollowsThePolylineAndStopsAtFeatures)
 TEST(CompressionTest, RestrainTestRefusesInversionAndCollapse)
 {
   // Vertex 0 above the edge 1-2.
-  const std::vector<Vec2> p = { { 0.5, 1.0 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
-  const std::vector<std::array<int, 3>> t = { { 0, 2, 1 } }; // counter-clockwise
+  const strata::LargeVector<Vec2> p = { { 0.5, 1.0 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
+  const strata::LargeVector<std::array<int, 3>> t = { { 0, 2, 1 } }; // counter-clockwise
   const int star[1] = { 0 };
   EXPECT_TRUE(strata::restrainAccepts(p, t, star, 1, 0, { 0.7, 0.5 }));
   EXPECT_FALSE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, -0.1 })); // crosses the edge
@@ -201,7 +201,7 @@ TEST(CompressionTest, RestrainTestRefusesInversionAndCollapse)
   EXPECT_FALSE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, 0.1 }, minTwice));
   EXPECT_TRUE(strata::restrainAccepts(p, t, star, 1, 0, { 0.5, 0.3 }, minTwice));
   // Already below the threshold: moves that do not shrink it further are allowed.
-  const std::vector<Vec2> low = { { 0.5, 0.1 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
+  const strata::LargeVector<Vec2> low = { { 0.5, 0.1 }, { 1.0, 0.0 }, { 0.0, 0.0 } };
   EXPECT_TRUE(strata::restrainAccepts(low, t, star, 1, 0, { 0.4, 0.12 }, minTwice));
   EXPECT_FALSE(strata::restrainAccepts(low, t, star, 1, 0, { 0.4, 0.05 }, minTwice));
 }
@@ -211,8 +211,10 @@ TEST(CompressionTest, FlipsRemoveDegenerateTriangles)
   // A square split by its diagonal 0-2, the upper half fanned from a vertex pushed almost
   // onto that diagonal: triangle 0-2-4 is a sliver; flipping its longest edge (the diagonal)
   // removes every angle below 10 degrees.
-  const std::vector<Vec2> p = { { 0, 0 }, { 2, 0 }, { 2, 2 }, { 0, 2 }, { 1.0, 1.001 } };
-  std::vector<std::array<int, 3>> t = { { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 4, 2, 3 } };
+  const strata::LargeVector<Vec2> p = { { 0, 0 }, { 2, 0 }, { 2, 2 }, { 0, 2 }, { 1.0, 1.001 } };
+  strata::LargeVector<std::array<int, 3>> t = {
+    { 0, 1, 2 }, { 0, 2, 4 }, { 0, 4, 3 }, { 4, 2, 3 }
+  };
   ASSERT_LT(strata::summarizeQuality(p, t).minAngle, 1.0);
   const std::size_t flips = strata::flipDegenerateTriangles(p, t);
   EXPECT_GE(flips, 1u);
@@ -299,7 +301,7 @@ TEST(CompressionTest, SqueezedVerticesAreCollapsedWithoutInvertingFaces)
   ASSERT_GT(r.collapsedVertices, 0u);
   EXPECT_EQ(nonPositive(r), 0u);
   EXPECT_EQ(r.degenerateTriangles, 0u);
-  std::vector<int> uses(r.points.size(), 0);
+  strata::LargeVector<int> uses(r.points.size(), 0);
   for (const auto& t : r.triangles)
   {
     EXPECT_TRUE(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
@@ -429,7 +431,7 @@ TEST(CompressionTest, BoundaryRefinementInsertsVerticesOnTheCurves)
   EXPECT_EQ(r.triangleRegion.size(), r.triangles.size());
   EXPECT_EQ(r.vertexState.size(), r.points.size());
   EXPECT_EQ(nonPositive(r), 0u);
-  std::vector<std::uint8_t> used(r.points.size(), 0);
+  strata::LargeVector<std::uint8_t> used(r.points.size(), 0);
   for (const auto& t : r.triangles)
   {
     used[t[0]] = used[t[1]] = used[t[2]] = 1;

@@ -75,14 +75,14 @@ TEST(QualityTest, SummaryCountsAnglesAndTrianglesIn30To60)
   // Angles (35, 50, 95): two in range, smallest in range. A grid triangle (90, 45, 45): two,
   // smallest in range. A needle (15, 82.5, 82.5): none.
   const double ac = std::sin(50.0 * kPi / 180.0) / std::sin(95.0 * kPi / 180.0);
-  const std::vector<Vec2> p = { { 0, 0 },
+  const strata::LargeVector<Vec2> p = { { 0, 0 },
     { 1, 0 },
     { ac * std::cos(35.0 * kPi / 180.0), ac * std::sin(35.0 * kPi / 180.0) },
     { 0, 1 },
     { 10, 0 },
     { 11, 0 },
     { 10.5, 0.5 / std::tan(7.5 * kPi / 180.0) } };
-  const std::vector<std::array<int, 3>> t = { { 0, 1, 2 }, { 0, 1, 3 }, { 4, 5, 6 } };
+  const strata::LargeVector<std::array<int, 3>> t = { { 0, 1, 2 }, { 0, 1, 3 }, { 4, 5, 6 } };
   const strata::QualitySummary s = strata::summarizeQuality(p, t);
   EXPECT_EQ(s.triangles, 3u);
   EXPECT_NEAR(s.minAngle, 15.0, 1e-9);
@@ -105,7 +105,7 @@ TEST(QualityTest, SummaryOfNothingIsZero)
 
 TEST(QualityTest, SummaryCountsInvertedAndDegenerateTriangles)
 {
-  const std::vector<Vec2> p = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 2, 0 } };
+  const strata::LargeVector<Vec2> p = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 2, 0 } };
   const strata::QualitySummary s = strata::summarizeQuality(p, { { 0, 2, 1 }, { 0, 1, 3 } });
   EXPECT_EQ(s.inverted, 1u);
   EXPECT_EQ(s.degenerate, 1u);

@@ -18,9 +18,9 @@ using strata::Vec2;
 // border particles are fixed.
 struct Lattice
 {
-  std::vector<Vec2> points;
-  std::vector<std::array<int, 3>> triangles;
-  std::vector<int> border;
+  strata::LargeVector<Vec2> points;
+  strata::LargeVector<std::array<int, 3>> triangles;
+  strata::LargeVector<int> border;
 };
 
 Lattice lattice(int n)
@@ -50,7 +50,7 @@ Lattice lattice(int n)
 }
 
 strata::SpringSystem makeSystem(const Lattice& l,
-  const std::vector<Vec2>& start,
+  const strata::LargeVector<Vec2>& start,
   const strata::SpringParams& params = strata::SpringParams())
 {
   strata::SpringMesh mesh;
@@ -66,7 +66,7 @@ strata::SpringSystem makeSystem(const Lattice& l,
 
 // The lattice's points moved by up to 0.3 and velocities of up to 0.2, both varying from
 // particle to particle.
-void shaken(const Lattice& l, std::vector<Vec2>& x, std::vector<Vec2>& v)
+void shaken(const Lattice& l, strata::LargeVector<Vec2>& x, strata::LargeVector<Vec2>& v)
 {
   x = l.points;
   v.assign(x.size(), Vec2{});
@@ -143,7 +143,7 @@ TEST(SpringSystemTest, ForcesAreInternalSoTheySumToZero)
   strata::SpringMesh mesh;
   mesh.triangles = { { 0, 1, 2 } };
   mesh.edges = strata::uniqueEdges(mesh.triangles);
-  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
+  const strata::LargeVector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0, 1 } };
   strata::SpringSystem s(mesh, { { 0.1, 0.05 }, { 0.9, -0.1 }, { 0.3, 0.2 } }, rest);
   s.velocities() = { { 0.1, 0.0 }, { 0.0, -0.2 }, { 0.3, 0.1 } };
   s.computeForces();
@@ -178,7 +178,7 @@ TEST(SpringSystemTest, EnergyDecaysWithDamping)
     { strata::SpringConfiguration::EdgeOnly, strata::SpringConfiguration::EdgeAndProjection })
   {
     const Lattice l = lattice(6);
-    std::vector<Vec2> start = l.points;
+    strata::LargeVector<Vec2> start = l.points;
     start[3 * 7 + 3] = start[3 * 7 + 3] + Vec2{ 0.3, 0.2 }; // an inner particle displaced
     strata::SpringParams p;
     p.configuration = c;
@@ -199,7 +199,7 @@ TEST(SpringSystemTest, EnergyDecaysWithDamping)
 TEST(SpringSystemTest, UndampedEnergyStaysBoundedWithSymplecticEuler)
 {
   const Lattice l = lattice(5);
-  std::vector<Vec2> start = l.points;
+  strata::LargeVector<Vec2> start = l.points;
   start[2 * 6 + 2] = start[2 * 6 + 2] + Vec2{ 0.2, -0.1 };
   strata::SpringParams p;
   p.damping = 0.0;
@@ -225,7 +225,7 @@ TEST(SpringSystemTest, NearlyCollapsedTriangleDoesNotThrowParticlesAway)
   strata::SpringMesh mesh;
   mesh.triangles = { { 0, 1, 2 } };
   mesh.edges = strata::uniqueEdges(mesh.triangles);
-  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
+  const strata::LargeVector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
   strata::SpringSystem s(mesh, { { 0, 0 }, { 1, 0 }, { 0.5, 0.01 } }, rest);
   s.setKind(0, strata::ParticleKind::Fixed);
   s.setKind(1, strata::ParticleKind::Fixed);
@@ -249,7 +249,7 @@ TEST(SpringSystemTest, GuardCanVetoAMove)
   strata::SpringMesh mesh;
   mesh.triangles = { { 0, 1, 2 } };
   mesh.edges = strata::uniqueEdges(mesh.triangles);
-  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
+  const strata::LargeVector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 0.5, 1 } };
   strata::SpringSystem s(mesh, { { 0, 0 }, { 1, 0 }, { 0.5, 0.5 } }, rest);
   s.setKind(0, strata::ParticleKind::Fixed);
   s.setKind(1, strata::ParticleKind::Fixed);
@@ -265,7 +265,7 @@ TEST(SpringSystemTest, GuardCanVetoAMove)
 TEST(SpringSystemTest, DrivenAndFixedParticlesAreNotIntegrated)
 {
   const Lattice l = lattice(3);
-  std::vector<Vec2> start = l.points;
+  strata::LargeVector<Vec2> start = l.points;
   start[5] = start[5] + Vec2{ 0.2, 0.2 };
   strata::SpringSystem s = makeSystem(l, start);
   s.setKind(5, strata::ParticleKind::Driven);
@@ -286,8 +286,14 @@ TEST(SpringSystemTest, ConfigurationsArePluggable)
   struct Pull : strata::SpringSet
   {
     const char* name() const override { return "pull"; }
-    void initialize(const strata::SpringMesh&, const std::vector<Vec2>&) override {}
-    void flipped(const strata::SpringMesh&, const std::vector<Vec2>&, int, int, int) override {}
+    void initialize(const strata::SpringMesh&, const strata::LargeVector<Vec2>&) override {}
+    void flipped(const strata::SpringMesh&,
+      const strata::LargeVector<Vec2>&,
+      int,
+      int,
+      int) override
+    {
+    }
     void addForces(const strata::SpringMesh&,
       const strata::ParticleState& st,
       const strata::SpringParams&) const override
@@ -295,7 +301,7 @@ TEST(SpringSystemTest, ConfigurationsArePluggable)
       st.f[4] = st.f[4] + Vec2{ 1.0, 0.0 };
     }
     double energy(const strata::SpringMesh&,
-      const std::vector<Vec2>&,
+      const strata::LargeVector<Vec2>&,
       const strata::SpringParams&) const override
     {
       return 0.0;
@@ -319,7 +325,7 @@ TEST(SpringSystemTest, FlipTakesTheCurrentLengthsAsRest)
   strata::SpringMesh mesh;
   mesh.triangles = { { 0, 1, 2 }, { 0, 2, 3 } };
   mesh.edges = strata::uniqueEdges(mesh.triangles);
-  const std::vector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+  const strata::LargeVector<Vec2> rest = { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
   strata::SpringSystem s(mesh, rest, rest);
   int diagonal = -1;
   for (std::size_t e = 0; e < s.mesh().edges.size(); ++e)
@@ -378,7 +384,7 @@ TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
   // of length 0) and a corner on its opposite edge (a projection of length 0), all particles
   // awake and only some.
   const Lattice l = lattice(9);
-  std::vector<Vec2> x, v;
+  strata::LargeVector<Vec2> x, v;
   shaken(l, x, v);
   x[12] = x[13];                          // an edge of length 0
   x[25] = 0.5 * (x[24] + x[35]);          // near or on an opposite edge
@@ -391,7 +397,7 @@ TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
     SCOPED_TRACE(some ? "some awake" : "all awake");
     strata::SpringSystem s = makeSystem(l, x, params);
     s.velocities() = v;
-    std::vector<std::uint8_t> awake(x.size(), 1);
+    strata::LargeVector<std::uint8_t> awake(x.size(), 1);
     if (some)
     {
       for (std::size_t i = 0; i < x.size(); ++i)
@@ -403,8 +409,8 @@ TEST(SpringSystemTest, ForcesAndStiffnessesAreBitForBitTheScalarLaws)
     s.computeForces();
     // The plain loops (edges, then the three corners of each triangle).
     const strata::SpringMesh& mesh = s.mesh();
-    std::vector<Vec2> f(x.size());
-    std::vector<double> k(x.size(), 0.0);
+    strata::LargeVector<Vec2> f(x.size());
+    strata::LargeVector<double> k(x.size(), 0.0);
     const double ks = params.stiffness, kd = params.damping;
     for (const auto& e : mesh.edges)
     {
@@ -484,11 +490,11 @@ TEST(SpringSystemTest, ASplitStepHasTheSerialForcesAndMovesEveryParticleOnce)
   // loop up to rounding, every free awake particle is moved exactly once, and without a veto
   // the moves are the serial ones.
   const Lattice l = lattice(40);
-  std::vector<Vec2> x, v;
+  strata::LargeVector<Vec2> x, v;
   shaken(l, x, v);
   struct Counting : strata::MoveGuard
   {
-    std::vector<int> asked;
+    strata::LargeVector<int> asked;
     bool accept(int i, Vec2, Vec2) override
     {
       ++this->asked[i]; // each index from one thread only, or the test fails on a count
@@ -501,7 +507,7 @@ TEST(SpringSystemTest, ASplitStepHasTheSerialForcesAndMovesEveryParticleOnce)
     strata::SpringParams split;
     split.splitSprings = 0;
     strata::SpringSystem serial = makeSystem(l, x), halves = makeSystem(l, x, split);
-    std::vector<std::uint8_t> awake(x.size(), 1);
+    strata::LargeVector<std::uint8_t> awake(x.size(), 1);
     for (std::size_t i = 0; some && i < x.size(); ++i)
     {
       awake[i] = (i * 7) % 5 != 0;
@@ -558,7 +564,7 @@ TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
   // A lattice squeezed toward its centre line relaxes with a guard that refuses any move
   // inverting a triangle: split in halves as in one loop, no triangle ever inverts.
   const Lattice l = lattice(40);
-  std::vector<Vec2> x = l.points;
+  strata::LargeVector<Vec2> x = l.points;
   for (std::size_t i = 0; i < x.size(); ++i)
   {
     if (std::find(l.border.begin(), l.border.end(), static_cast<int>(i)) == l.border.end())
@@ -569,10 +575,10 @@ TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
   struct Embedded : strata::MoveGuard
   {
     const strata::SpringSystem* system = nullptr;
-    std::vector<std::vector<int>> star;
+    strata::LargeVector<strata::LargeVector<int>> star;
     bool accept(int i, Vec2, Vec2 to) override
     {
-      const std::vector<Vec2>& p = this->system->positions();
+      const strata::LargeVector<Vec2>& p = this->system->positions();
       for (const int t : this->star[i])
       {
         std::array<Vec2, 3> c;
@@ -612,7 +618,7 @@ TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
     double spread = 0.0;
     for (const auto& t : l.triangles)
     {
-      const std::vector<Vec2>& p = s.positions();
+      const strata::LargeVector<Vec2>& p = s.positions();
       inverted += !(strata::orient2d(p[t[0]], p[t[1]], p[t[2]]) > 0.0);
     }
     for (const Vec2& p : s.positions())

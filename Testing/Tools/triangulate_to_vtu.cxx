@@ -55,7 +55,7 @@ void writeVtu(const std::string& path, const strata::MesherResult& r)
     f << buf;
   }
   f << "</DataArray>\n</PointData>\n<CellData>\n";
-  auto intArray = [&](const char* name, const std::vector<int>& v)
+  auto intArray = [&](const char* name, const strata::LargeVector<int>& v)
   {
     f << "<DataArray type=\"Int32\" Name=\"" << name << "\" format=\"ascii\">\n";
     for (int x : v)
@@ -64,7 +64,7 @@ void writeVtu(const std::string& path, const strata::MesherResult& r)
     }
     f << "</DataArray>\n";
   };
-  auto dblArray = [&](const char* name, const std::vector<double>& v)
+  auto dblArray = [&](const char* name, const strata::LargeVector<double>& v)
   {
     f << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
     for (double x : v)
