@@ -51,7 +51,7 @@ namespace strata
 namespace
 {
 
-int findRoot(std::vector<int>& parent, int i)
+int findRoot(LargeVector<int>& parent, int i)
 {
   while (parent[i] != i)
   {
@@ -120,7 +120,7 @@ Classification classify(const TriangleMesh& mesh,
   { return known ? mesh.pointBoundaryDistance[i] : std::numeric_limits<double>::quiet_NaN(); };
 
   // 1. Unique edges: rows of the smaller end point.
-  std::vector<int> rowStart(np + 1, 0);
+  LargeVector<int> rowStart(np + 1, 0);
   for (const std::array<int, 3>& tri : mesh.triangles)
   {
     for (int k = 0; k < 3; ++k)
@@ -133,8 +133,8 @@ Classification classify(const TriangleMesh& mesh,
     rowStart[i + 1] += rowStart[i];
   }
   {
-    std::vector<int> other(rowStart.back());
-    std::vector<int> fill(rowStart.begin(), rowStart.end() - 1);
+    LargeVector<int> other(rowStart.back());
+    LargeVector<int> fill(rowStart.begin(), rowStart.end() - 1);
     for (const std::array<int, 3>& tri : mesh.triangles)
     {
       for (int k = 0; k < 3; ++k)
@@ -159,7 +159,7 @@ Classification classify(const TriangleMesh& mesh,
       }
     }
   }
-  std::vector<int>().swap(rowStart);
+  LargeVector<int>().swap(rowStart);
   const std::size_t ne = c.edges.size();
   progress.report(0.1, "classifying the grid");
 
@@ -181,7 +181,7 @@ Classification classify(const TriangleMesh& mesh,
 
   // 3. Edges; union of the end points of the others.
   c.edgeClass.assign(ne, EdgeExterior);
-  std::vector<int> parent(np);
+  LargeVector<int> parent(np);
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t e = 0; e < ne; ++e)
   {
@@ -243,7 +243,7 @@ Classification classify(const TriangleMesh& mesh,
     }
     c.vertexClass[i] = c.vertexRegion[i] >= 0 ? VertexInterior : VertexExterior;
   }
-  std::vector<int>().swap(parent);
+  LargeVector<int>().swap(parent);
 
   c.edgeRegion.assign(ne, -1);
   for (std::size_t e = 0; e < ne; ++e)

@@ -791,7 +791,7 @@ void Compressor::placeJunctions()
     return;
   }
   // Bucket grid over the candidate vertices.
-  std::vector<int> cand;
+  LargeVector<int> cand;
   Box2 box;
   for (std::size_t i = 0; i < np; ++i)
   {
@@ -814,7 +814,7 @@ void Compressor::placeJunctions()
   { return std::clamp(static_cast<int>((v - lo) / cellSize), 0, cells - 1); };
   const auto cellIndex = [&](Vec2 p)
   { return cellOf(p.y, box.min.y) * cells + cellOf(p.x, box.min.x); };
-  std::vector<int> start(static_cast<std::size_t>(cells) * cells + 1, 0);
+  LargeVector<int> start(static_cast<std::size_t>(cells) * cells + 1, 0);
   for (int v : cand)
   {
     ++start[cellIndex(this->Points[v]) + 1];
@@ -823,15 +823,15 @@ void Compressor::placeJunctions()
   {
     start[i] += start[i - 1];
   }
-  std::vector<int> items(cand.size());
+  LargeVector<int> items(cand.size());
   {
-    std::vector<int> fill(start.begin(), start.end() - 1);
+    LargeVector<int> fill(start.begin(), start.end() - 1);
     for (int v : cand)
     {
       items[fill[cellIndex(this->Points[v])]++] = v;
     }
   }
-  std::vector<double> minTwice(this->Grid.triangles.size());
+  LargeVector<double> minTwice(this->Grid.triangles.size());
   for (std::size_t t = 0; t < minTwice.size(); ++t)
   {
     const std::array<int, 3>& tri = this->Grid.triangles[t];

@@ -1689,7 +1689,7 @@ TriangleMesh Grid48::extract(int level) const
   }
   const int cut = level < 0 ? MaxSupportedLevel + 1 : level;
   TriangleMesh mesh;
-  std::vector<int> map(this->Lattice.size(), -1);
+  LargeVector<int> map(this->Lattice.size(), -1);
   std::vector<int> stack = { 3, 2, 1, 0 };
   auto point = [&](int v)
   {

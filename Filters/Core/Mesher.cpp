@@ -914,7 +914,7 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
 {
   const std::size_t np = points.size();
   // Directed edges of the kept triangles, by start vertex.
-  std::vector<int> start(np + 1, 0);
+  LargeVector<int> start(np + 1, 0);
   for (std::size_t t = 0; t < triangles.size(); ++t)
   {
     if (region[t] >= 0)
@@ -929,9 +929,9 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
   {
     start[i + 1] += start[i];
   }
-  std::vector<std::pair<int, int>> out(start.back()); // (end vertex, region of the left face)
+  LargeVector<std::pair<int, int>> out(start.back()); // (end vertex, region of the left face)
   {
-    std::vector<int> fill(start.begin(), start.end() - 1);
+    LargeVector<int> fill(start.begin(), start.end() - 1);
     for (std::size_t t = 0; t < triangles.size(); ++t)
     {
       if (region[t] >= 0)
@@ -975,7 +975,7 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
   }
   // Chain through vertices with exactly one incoming and one outgoing boundary edge of the same
   // pair of regions.
-  std::vector<int> outCount(np, 0), inCount(np, 0), firstOut(np, -1), firstIn(np, -1);
+  LargeVector<int> outCount(np, 0), inCount(np, 0), firstOut(np, -1), firstIn(np, -1);
   for (std::size_t e = 0; e < edges.size(); ++e)
   {
     ++outCount[edges[e].a];
@@ -993,7 +993,7 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
     const BEdge& o = edges[firstOut[v]];
     return i.left == o.left && i.right == o.right;
   };
-  std::vector<std::uint8_t> used(edges.size(), 0);
+  LargeVector<std::uint8_t> used(edges.size(), 0);
   std::vector<MesherResult::BoundaryCurve> curves;
   auto follow = [&](int e)
   {
