@@ -238,7 +238,9 @@ public:
    * sharper than MinimumAngle in small triangles (where a recovered layer ends) go to a
    * neighbour. A region boundary edge that cuts off more than 0.05% of the smaller of its
    * regions' areas from its curve is split at the curve point farthest from it (small
-   * countries and islands keep their area). A mesh with a triangle below MinimumAngle or a
+   * countries and islands keep their area); with the automatic sizes, a region whose edges cut
+   * off more than 0.25% of its area in all (a thin bending layer) also has each edge split that
+   * cuts off more than an even share of that. A mesh with a triangle below MinimumAngle or a
    * region's area off by more than 0.05% is made once more with half the recovery margin (thinner
    * layers, smaller regions), and the better kept (larger smallest angle, then smaller area error;
    * a retry that halves an area error above 0.5% is kept if its smallest angle is at most 5
@@ -282,8 +284,10 @@ public:
    * warning gives both meshes' figures. A mesh that meets the bounds is made once. Then,
    * with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length field),
    * CurveRecovery and MinimumAngle 25 or more: a mesh still below 25 degrees where no input
-   * corner sharper than 25 forces it (layers about a finest edge thick) is made again with
-   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger (field
+   * corner sharper than 25 forces it (layers about a finest edge thick), or with a region's
+   * area still off by more than 0.5% (a piece of a thin layer lost), is made again with
+   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or, for the area,
+   * when its area error is smaller and its smallest angle is not (up to 30 degrees) (field
    * `LocalMaxLevel`, a warning). Off: one mesh, as made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);

@@ -1319,6 +1319,49 @@ std::size_t Refiner::followCurves()
   std::vector<int> all(this->M.triangles.size());
   std::iota(all.begin(), all.end(), 0);
   collect(all);
+  // A region whose boundary edges cut off more than curveAreaBudget of its area in all (a
+  // thin, bending layer: each edge under the per-edge bound, their sum not) also has its edges
+  // that cut off more than an even share of that budget split: limit[r], else no limit.
+  const double budget = this->P.curveAreaBudget;
+  std::vector<double> limit(area.size(), HUGE_VAL);
+  if (budget > 0.0)
+  {
+    std::vector<double> cut(area.size(), 0.0);
+    std::vector<int> edges(area.size(), 0);
+    for (const auto& [t, k] : todo)
+    {
+      this->poll();
+      const int u = this->Nbr[t][k];
+      if (u >= 0 && !this->Live[u])
+      {
+        continue;
+      }
+      const Vec2 a = this->X(this->M.triangles[t][k]),
+                 b = this->X(this->M.triangles[t][(k + 1) % 3]);
+      const int left = this->M.region[t], right = u >= 0 ? this->M.region[u] : -1;
+      double deviation = 0.0;
+      Vec2 w;
+      if (!this->P.curveDeviation(a, b, left, right, deviation, w))
+      {
+        deviation = 0.0;
+      }
+      for (int r : { left, right })
+      {
+        if (r >= 0)
+        {
+          cut[r] += deviation;
+          ++edges[r];
+        }
+      }
+    }
+    for (std::size_t r = 0; r < area.size(); ++r)
+    {
+      if (edges[r] > 0 && cut[r] > budget * area[r])
+      {
+        limit[r] = budget * area[r] / edges[r];
+      }
+    }
+  }
   std::size_t splits = 0;
   std::vector<int> created, touched;
   for (int round = 0; round < kFollowRounds && !todo.empty(); ++round)
@@ -1344,7 +1387,9 @@ std::size_t Refiner::followCurves()
         continue;
       }
       const double smaller = right >= 0 ? std::min(area[left], area[right]) : area[left];
-      if (!(deviation > kDeviationFraction * smaller) ||
+      const double bound = std::min(
+        { kDeviationFraction * smaller, limit[left], right >= 0 ? limit[right] : HUGE_VAL });
+      if (!(deviation > bound) ||
         !(std::min(norm(w - a), norm(w - b)) >= kFloor * this->P.minimumEdgeLength) ||
         !this->splitEdge(t, k, w, created))
       {
@@ -2792,6 +2837,11 @@ void validate(const RefinementParams& p)
   {
     throw ParameterError("refinement insertion budget " + std::to_string(p.insertionBudget) +
       " is out of range [0, 100]");
+  }
+  if (!(p.curveAreaBudget >= 0.0 && p.curveAreaBudget <= 1.0))
+  {
+    throw ParameterError("refinement curve area budget " + std::to_string(p.curveAreaBudget) +
+      " is out of range [0, 1]");
   }
 }
 

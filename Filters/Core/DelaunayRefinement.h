@@ -90,6 +90,12 @@ struct RefinementParams
   /// (the halves are checked in turn): small regions (islands, small countries) keep their
   /// area.
   std::function<bool(Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)> curveDeviation;
+  /// With curveDeviation: a region whose boundary edges cut off more than this fraction of its
+  /// area in all (each under the per-edge bound, a thin bending layer) also has each of its
+  /// edges split that cuts off more than an even share of it (the fraction of its area over
+  /// its number of boundary edges). 0 = off (the default); the mesher sets 0.25% with the
+  /// automatic levels. Range [0, 1].
+  double curveAreaBudget = 0.0;
   /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
   /// step 7): in the last pass, before its refinement runs, the wedge of each between its apex
   /// and the nearest vertices of its region on its two sides is rebuilt as rungs of its region

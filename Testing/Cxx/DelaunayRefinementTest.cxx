@@ -871,6 +871,47 @@ TEST(DelaunayRefinementTest, BoundaryEdgesThatCutOffTheirCurveAreSplitOnIt)
   }
 }
 
+// Curve fidelity adds up (RefinementParams::curveAreaBudget 0.25%, as the mesher sets with the
+// automatic sizes): a thin layer (band 1, 20 long, 1 thick, between two 10-thick bands) whose
+// boundary edges each cut off 0.04% of its area, under the per-edge 0.05%, but 0.8% in all
+// (20 edges), has them split too. With only 5 such edges (0.2% in all), or without the budget
+// (the default), none is.
+TEST(DelaunayRefinementTest, BoundaryEdgesOfALayerThatCutOffTooMuchInAllAreSplit)
+{
+  for (const auto& [reach, budget] : { std::pair{ 20.0, 2.5e-3 }, { 10.0, 2.5e-3 }, { 20.0, 0.0 } })
+  {
+    RegionMesh m = bands({ 0.0, 10.0, 11.0, 21.0 }, 20.0, 2.0);
+    RefinementParams p;
+    p.minimumEdgeLength = 1.0;
+    p.curveAreaBudget = budget;
+    const double cut = 4e-4 * 20.0; // of band 1's area, per edge
+    int asked = 0;
+    p.curveDeviation = [&](Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)
+    {
+      ++asked;
+      const bool row = a.y == b.y && (a.y == 10.0 || a.y == 11.0);
+      const bool layer = std::min(left, right) >= 0 && (left == 1 || right == 1);
+      if (!row || !layer || std::abs(b.x - a.x) < 1.5 || std::max(a.x, b.x) > reach ||
+        (reach < 20.0 && a.y == 11.0))
+      {
+        return false; // the outer border, a half already split, or beyond the reach
+      }
+      area = cut;
+      at = 0.5 * (a + b);
+      return true;
+    };
+    const RefinementResult r = strata::refineDelaunay(m, middle, p);
+    expectValid(m);
+    EXPECT_GT(asked, 0);
+    EXPECT_EQ(r.fidelitySplits, reach == 20.0 && budget > 0.0 ? 20u : 0u) << reach << " " << budget;
+    // The splits are on the rows: the areas stay.
+    const auto areas = regionAreas(m);
+    EXPECT_NEAR(areas.at(0), 200.0, 1e-9);
+    EXPECT_NEAR(areas.at(1), 20.0, 1e-9);
+    EXPECT_NEAR(areas.at(2), 200.0, 1e-9);
+  }
+}
+
 // A sharp corner between two unconstrained edges at a junction (what a wedge's tip given to
 // its neighbour leaves: the same region on both sides of the edges) is no region corner: the
 // refinement widens it (16 degrees before, at least 30 after) from beyond its long edge. No
@@ -1142,6 +1183,9 @@ TEST(DelaunayRefinementTest, MalformedMeshesAndParametersAreRejected)
   p = {};
   p.insertionBudget = -1.0;
   EXPECT_NE(message(good, p).find("budget"), std::string::npos);
+  p = {};
+  p.curveAreaBudget = 2.0;
+  EXPECT_NE(message(good, p).find("curve area budget"), std::string::npos);
   p = {};
   p.maximumEdgeLength = std::nan("");
   EXPECT_NE(message(good, p).find("maximum edge length nan"), std::string::npos);

@@ -1005,15 +1005,50 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
 }
 
 // Layers about a finest edge thick (thin_layered_section.vtp, LocalMaxLevel 14 automatic): the
-// mesh made once keeps triangles below 25 degrees that no input corner forces (15.5 degrees
-// where one layer ends in another). They are counted, and a warning names the worst one's angle,
-// region and place (its centroid, input coordinates). ThinLayerRetry (default) makes the mesh
-// again with LocalMaxLevel 4 levels finer and keeps it (30 degrees); a LocalMaxLevel the user set
-// is kept as set.
-TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
+// mesh made once loses a piece of region 4 where one layer ends in another (area 10.8% short),
+// with every angle at 30 degrees. ThinLayerRetry makes it again 4 levels finer and keeps that
+// mesh (every region within issue 5's 0.5%, angles still 30 degrees); with the level set by the
+// user the area miss stays.
+TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
 {
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("thin_layered_section.vtp"));
+  strata::MesherParams once;
+  once.thinLayerRetry = false;
+  const strata::MesherResult r = strata::triangulate(raw, once);
+  ASSERT_GT(r.summary.maxRegionAreaError, 0.02);
+  EXPECT_GE(r.summary.minAngle, 25.0);
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_LE(d.summary.maxRegionAreaError, 0.005);
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  for (const auto& a : d.regionAreas)
+  {
+    EXPECT_NEAR(a.mesh, a.model, 0.005 * a.model) << "region " << a.id;
+  }
+  const std::string warnings = allWarnings(d);
+  EXPECT_NE(warnings.find("had a region's area off by"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("the finer one is kept"), std::string::npos) << warnings;
+
+  strata::MesherParams set;
+  set.grid.localMaxLevel = r.summary.localMaxLevel;
+  const strata::MesherResult s = strata::triangulate(raw, set);
+  EXPECT_EQ(s.summary.localMaxLevel, r.summary.localMaxLevel);
+  EXPECT_GT(s.summary.maxRegionAreaError, 0.005);
+  EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
+}
+
+// Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
+// LocalMaxLevel 14 automatic): the mesh made once keeps triangles below 25 degrees that no input
+// corner forces (7.9 degrees). They are counted, and a warning names the worst one's angle,
+// region and place (its centroid, input coordinates). ThinLayerRetry (default) makes the mesh
+// again with LocalMaxLevel 4 levels finer and keeps it (28.3 degrees: one triangle below 30,
+// named); a LocalMaxLevel the user set is kept as set.
+TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("aliased_layers_section.vtp"));
   strata::MesherParams once;
   once.thinLayerRetry = false;
   const strata::MesherResult r = strata::triangulate(raw, once);
@@ -1044,18 +1079,23 @@ TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
 
   const strata::MesherResult d = strata::triangulate(raw);
   EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
-  EXPECT_GE(d.summary.minAngle, 29.95);
-  EXPECT_EQ(d.summary.trianglesBelowMinimumAngle, 0u);
-  EXPECT_NE(allWarnings(d).find("made again at LocalMaxLevel"), std::string::npos)
+  EXPECT_GE(d.summary.minAngle, 28.0);
+  std::size_t dBelow = 0;
+  for (double angle : d.minAngle)
+  {
+    dBelow += angle < 29.95;
+  }
+  EXPECT_EQ(d.summary.trianglesBelowMinimumAngle, dBelow);
+  EXPECT_LT(dBelow, below);
+  EXPECT_NE(allWarnings(d).find("had triangles below 25 degrees"), std::string::npos)
     << allWarnings(d);
-  EXPECT_EQ(allWarnings(d).find("stay below MinimumAngle"), std::string::npos) << allWarnings(d);
+  EXPECT_NE(allWarnings(d).find("the finer one is kept"), std::string::npos) << allWarnings(d);
 
   strata::MesherParams set;
   set.grid.localMaxLevel = r.summary.localMaxLevel;
   const strata::MesherResult s = strata::triangulate(raw, set);
   EXPECT_EQ(s.summary.localMaxLevel, r.summary.localMaxLevel);
-  EXPECT_LT(s.summary.minAngle, 25.0);
-  EXPECT_GT(s.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
 
   // A mesh that meets the bound says nothing of the kind.
   const strata::MesherResult salt =
