@@ -1004,6 +1004,19 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
   }
 }
 
+namespace
+{
+// The model Data/`file` and its mesh made once (ThinLayerRetry off).
+std::pair<strata::RawPolylines, strata::MesherResult> madeOnce(const char* file)
+{
+  strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
+  strata::MesherParams once;
+  once.thinLayerRetry = false;
+  strata::MesherResult r = strata::triangulate(raw, once);
+  return { std::move(raw), std::move(r) };
+}
+} // namespace
+
 // Layers about a finest edge thick (thin_layered_section.vtp, LocalMaxLevel 14 automatic): the
 // mesh made once loses a piece of region 4 where one layer ends in another (area 10.8% short),
 // with every angle at 30 degrees. ThinLayerRetry makes it again 4 levels finer and keeps that
@@ -1011,11 +1024,7 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
 // user the area miss stays.
 TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("thin_layered_section.vtp"));
-  strata::MesherParams once;
-  once.thinLayerRetry = false;
-  const strata::MesherResult r = strata::triangulate(raw, once);
+  const auto [raw, r] = madeOnce("thin_layered_section.vtp");
   ASSERT_GT(r.summary.maxRegionAreaError, 0.02);
   EXPECT_GE(r.summary.minAngle, 25.0);
 
@@ -1047,11 +1056,8 @@ TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
 // named); a LocalMaxLevel the user set is kept as set.
 TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("aliased_layers_section.vtp"));
-  strata::MesherParams once;
-  once.thinLayerRetry = false;
-  const strata::MesherResult r = strata::triangulate(raw, once);
+  const auto [raw, r] = madeOnce("aliased_layers_section.vtp");
+  const strata::MesherParams once;
   ASSERT_LT(r.summary.minAngle, 25.0);
   EXPECT_EQ(r.summary.trianglesAtSharpCorners, 0u);
   std::size_t below = 0, worst = 0;
