@@ -272,8 +272,9 @@ constexpr double kRetryMarginScale = 0.5;
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
 // ThinLayerRetry with the automatic levels: a mesh below this many degrees (issue 5's bound)
-// off the input's corners is made again with LocalMaxLevel this much finer (see triangulate());
-// the first mesh has this share of the progress range.
+// off the input's corners, or with a region's area off by more than kAreaBound, is made again
+// with LocalMaxLevel this much finer (see triangulate()); the first mesh has this share of the
+// progress range.
 constexpr double kFinerRetryAngle = 25.0;
 // Curve fidelity with the automatic sizes: the area a region's boundary edges may cut off in
 // all (RefinementParams::curveAreaBudget).
