@@ -1225,7 +1225,10 @@ void Compressor::updateStars()
     }
   }
   std::sort(now.begin(), now.end());
-  LargeVector<int> items(this->StarItems.size()); // (freed with the old items on return)
+  // The new items go to the scratch buffer, which then swaps with the old ones: a flip round
+  // writes every item once, into memory the rounds before already paged in.
+  LargeVector<int>& items = this->StarScratch;
+  items.resize(this->StarItems.size());
   const int* old = this->StarItems.data();
   int* out = items.data();
   int copied = 0; // old items copied or replaced so far

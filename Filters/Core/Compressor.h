@@ -311,9 +311,11 @@ private:
   LargeVector<double> RestTwice, MinTwice;
   LargeVector<int> StarStart, StarItems;
   // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
-  // updateStars() (marks) and the triangle count they were built for.
+  // updateStars() (marks, and the buffer the new items are written to, swapped with StarItems)
+  // and the triangle count they were built for.
   LargeVector<int> Flipped;
   LargeVector<std::uint8_t> FlippedMark;
+  LargeVector<int> StarScratch;
   std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 

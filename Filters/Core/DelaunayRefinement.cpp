@@ -480,7 +480,8 @@ private:
   bool splitEdge(int t, int k, Vec2 w, std::vector<int>& created);
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
-  bool retag(int t, char* far = nullptr);
+  bool retag(int t, char* far = nullptr, const int* near = nullptr);
+  std::vector<int> centroidRegionsNear();
   void appendNeighbours(int t, std::vector<int>& list) const
   {
     for (int n : this->Nbr[t])
@@ -1127,6 +1128,9 @@ std::size_t Refiner::recoverCurves()
   // far: while it stays as it is, no curve point lies inside it (none lies farther from the
   // centroid than its farthest corner, 2/3 of a median, less than the longest edge), so it is
   // not probed. Insertions change only the triangles they report (the new vertex's star).
+  // The centroids' curve queries (geometry only: the rounds change regions, not positions)
+  // are asked all at once first when the caller can answer them so.
+  const std::vector<int> near = this->centroidRegionsNear();
   std::vector<int> todo(queue.begin(), queue.end()), next;
   std::vector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
@@ -1135,7 +1139,7 @@ std::size_t Refiner::recoverCurves()
     for (int t : todo)
     {
       this->poll();
-      if (this->retag(t, &far[t]))
+      if (this->retag(t, &far[t], near.empty() ? nullptr : &near[t]))
       {
         this->appendNeighbours(t, next);
       }
@@ -1405,16 +1409,64 @@ std::size_t Refiner::followCurves()
   return splits;
 }
 
+// For every live triangle, the region at its centroid when a curve lies nearer to it than
+// its longest edge, else kNoCurveNear (RefinementParams::regionsNear, in blocks between
+// polls); empty without regionsNear or curveDistance.
+std::vector<int> Refiner::centroidRegionsNear()
+{
+  std::vector<int> region;
+  if (!this->P.regionsNear || !this->P.curveDistance)
+  {
+    return region;
+  }
+  const std::size_t n = this->M.triangles.size();
+  region.assign(n, kNoCurveNear);
+  std::vector<Vec2> points;
+  std::vector<double> reach;
+  std::vector<int> ids, answers;
+  constexpr std::size_t kBlock = std::size_t(1) << 15;
+  for (std::size_t begin = 0; begin < n; begin += kBlock)
+  {
+    this->Progress.report(
+      std::min(0.99, static_cast<double>(this->Inserted) / static_cast<double>(this->Budget)),
+      "refining toward the minimum angle");
+    points.clear();
+    reach.clear();
+    ids.clear();
+    for (std::size_t t = begin; t < std::min(n, begin + kBlock); ++t)
+    {
+      if (this->Live[t])
+      {
+        const auto& tri = this->M.triangles[t];
+        const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+        points.push_back((1.0 / 3.0) * (a + b + c));
+        reach.push_back(std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) })));
+        ids.push_back(static_cast<int>(t));
+      }
+    }
+    answers.resize(ids.size());
+    this->P.regionsNear(points.data(), reach.data(), ids.size(), answers.data());
+    for (std::size_t i = 0; i < ids.size(); ++i)
+    {
+      region[ids[i]] = answers[i];
+    }
+  }
+  return region;
+}
+
 // Gives t the region at its centroid unless that gives it a region boundary edge with an end
 // off the curves. Returns whether its region changed; sets *far (when given) for a live
-// triangle with no curve within its longest edge of its centroid (see recoverCurves).
-bool Refiner::retag(int t, char* far)
+// triangle with no curve within its longest edge of its centroid (see recoverCurves). *near,
+// when given, is t's entry of centroidRegionsNear() (t unchanged since): no query is asked.
+bool Refiner::retag(int t, char* far, const int* near)
 {
   const auto& tri = this->M.triangles[t];
   const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
   const Vec2 g = (1.0 / 3.0) * (a + b + c);
   const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-  if (!this->Live[t] || (this->P.curveDistance && this->P.curveDistance(g, longest) >= longest))
+  if (!this->Live[t] ||
+    (near ? *near == kNoCurveNear
+          : this->P.curveDistance && this->P.curveDistance(g, longest) >= longest))
   {
     if (far && this->Live[t])
     {
@@ -1422,7 +1474,7 @@ bool Refiner::retag(int t, char* far)
     }
     return false; // no curve runs near it: its region is its neighbours'
   }
-  const int r = this->P.regionAt(g);
+  const int r = near ? *near : this->P.regionAt(g);
   if (r == this->M.region[t])
   {
     return false;

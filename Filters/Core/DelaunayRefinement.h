@@ -10,6 +10,7 @@
 #include <array>
 #include <cstddef>
 #include <functional>
+#include <limits>
 #include <vector>
 
 namespace strata
@@ -26,6 +27,9 @@ struct SharpCorner
   /// `first` with the region on its left, `second` with the region on its right.
   std::vector<Vec2> first, second;
 };
+
+/// RefinementParams::regionsNear's answer for a point with no curve nearer than asked.
+constexpr int kNoCurveNear = std::numeric_limits<int>::min();
 
 /// Parameters of refineDelaunay().
 struct RefinementParams
@@ -72,6 +76,12 @@ struct RefinementParams
   /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
   std::function<double(Vec2 p, double within)> curveDistance;
+  /// Optional, with the curve recovery and curveDistance: the answers of those two for many
+  /// points at once (the recovery's first retag asks about every triangle's centroid), so
+  /// that the caller may give them on two threads. For each i < n: region[i] = regionAt(p[i])
+  /// when curveDistance(p[i], within[i]) < within[i], else kNoCurveNear. Empty: the
+  /// refinement asks curveDistance and regionAt one point at a time.
+  std::function<void(const Vec2* p, const double* within, std::size_t n, int* region)> regionsNear;
   /// Optional, with the curve recovery: whether the model has a corner of region `region`
   /// sharper than about minimumAngle within `radius` of p. Where it has none, a sharp corner
   /// of a region's triangle between two triangles of one other region (or the outer border)

@@ -35,6 +35,7 @@
 #include "DelaunayRefinement.h"
 #include "DistanceField.h"
 #include "Errors.h"
+#include "Parallel.h"
 #include "Quality.h"
 #include "StripTree.h"
 
@@ -386,6 +387,130 @@ double finestEdgeLength(const Grid48& grid, const MesherParams& params)
     : grid.hypotenuseLength(grid.params().junctionMaxLevel) / std::sqrt(2.0);
 }
 
+// The nearest-curve queries behind the refinement's callbacks: through the curve cells when
+// they settle it, else the rails' strip tree. The last point asked is remembered (the
+// refinement asks about a triangle's centroid several times in a row). Each thread asks its
+// own (scratch and memory), so the answers do not depend on which one asks.
+struct CurveQuery
+{
+  CurveQuery(const BoundaryRails& curves,
+    const SegmentGrid& curveCells,
+    const DistanceField& regions,
+    double width)
+    : rails(curves)
+    , cells(curveCells)
+    , field(regions)
+    , cell(width)
+  {
+  }
+
+  const BoundaryRails& rails;
+  const SegmentGrid& cells;
+  const DistanceField& field;
+  double cell; // the cells' width
+  StripTreeScratch scratch;
+  DistanceField::Scratch fieldScratch;
+  Vec2 lastP{ std::numeric_limits<double>::quiet_NaN(), 0.0 };
+  BoundaryRails::Location lastLocation;
+  double lastDistance = 0.0;
+
+  // rails.closest through the cells when they settle it (the same answer). Without a bound,
+  // the cells within two cells of p are asked: a segment found there is the closest of all.
+  BoundaryRails::Location railsClosest(Vec2 p, double* distance, double maxDistance)
+  {
+    NearestSegment s;
+    const bool bounded = maxDistance < HUGE_VAL;
+    if (!this->cells.nearest(p, bounded ? maxDistance : 2.0 * this->cell, s) ||
+      (!bounded && s.segment < 0))
+    {
+      return this->rails.closest(p, this->scratch, distance, maxDistance);
+    }
+    const BoundaryRails::Location l =
+      s.segment >= 0 ? this->rails.location(s.segment, s.t) : BoundaryRails::Location{};
+    if (distance)
+    {
+      *distance = std::sqrt(s.distance2);
+    }
+    return l;
+  }
+
+  // The closest curve point (remembered).
+  BoundaryRails::Location closest(Vec2 p, double* distance)
+  {
+    if (!(p == this->lastP))
+    {
+      this->lastP = p;
+      this->lastLocation = this->railsClosest(p, &this->lastDistance, HUGE_VAL);
+    }
+    if (distance)
+    {
+      *distance = this->lastDistance;
+    }
+    return this->lastLocation;
+  }
+
+  // The closest curve point if it lies nearer than r, else chain -1 (*distance r): a point far
+  // from every curve prunes the whole strip tree at once. A found one is remembered.
+  BoundaryRails::Location within(Vec2 p, double r, double* distance)
+  {
+    if (p == this->lastP)
+    {
+      if (distance)
+      {
+        *distance = std::min(this->lastDistance, r);
+      }
+      return this->lastDistance < r ? this->lastLocation : BoundaryRails::Location{};
+    }
+    double d = r;
+    const BoundaryRails::Location l = this->railsClosest(p, &d, r);
+    if (l.chain >= 0)
+    {
+      this->lastP = p;
+      this->lastLocation = l;
+      this->lastDistance = d;
+    }
+    if (distance)
+    {
+      *distance = d;
+    }
+    return l;
+  }
+
+  // The region at p: the side of the nearest curve point when it lies inside a segment
+  // (cheap), else the distance field's regions (where curves meet, the side of one segment
+  // can mislead).
+  int regionOf(Vec2 p)
+  {
+    const BoundaryRails::Location l = this->closest(p, nullptr);
+    if (l.chain >= 0 && l.t > 1e-9 && l.t < 1.0 - 1e-9)
+    {
+      const BoundaryRails::Chain& c = this->rails.chain(l.chain);
+      const double side = cross(this->rails.tangent(l), p - this->rails.position(l));
+      if (side != 0.0)
+      {
+        return side > 0.0 ? c.left : c.right;
+      }
+    }
+    return this->field.region(p, this->fieldScratch);
+  }
+
+  // RefinementParams::regionsNear for the points of every other run of kRun, from run
+  // `first` (0 or 1): near and far points (their costs differ) are shared alike.
+  static constexpr std::size_t kRun = 256;
+  void regionsNear(const Vec2* p, const double* reach, std::size_t n, int first, int* region)
+  {
+    for (std::size_t begin = first * kRun; begin < n; begin += 2 * kRun)
+    {
+      for (std::size_t i = begin; i < std::min(n, begin + kRun); ++i)
+      {
+        double d = 0.0;
+        this->within(p[i], reach[i], &d);
+        region[i] = d < reach[i] ? this->regionOf(p[i]) : kNoCurveNear;
+      }
+    }
+  }
+};
+
 // The Delaunay refinement of the compressed mesh (part of the optimization), in place: stray
 // boundary vertices snapped onto their curve first, then refineDelaunay() with boundary edges
 // split at the point of their curve nearest their middle, on the chain that separates the
@@ -424,71 +549,18 @@ void refineCompressed(CompressionResult& compressed,
     const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * longest.size() + 4096);
     return rails.segmentGrid(cell, most);
   }();
-  // rails.closest through the cells when they settle it (the same answer). Without a bound,
-  // the cells within two cells of p are asked: a segment found there is the closest of all.
-  const auto railsClosest = [&](Vec2 p, double* distance, double maxDistance)
-  {
-    NearestSegment s;
-    const bool bounded = maxDistance < HUGE_VAL;
-    if (!curveCells.nearest(p, bounded ? maxDistance : 2.0 * cell, s) ||
-      (!bounded && s.segment < 0))
-    {
-      return rails.closest(p, scratch, distance, maxDistance);
-    }
-    const BoundaryRails::Location l =
-      s.segment >= 0 ? rails.location(s.segment, s.t) : BoundaryRails::Location{};
-    if (distance)
-    {
-      *distance = std::sqrt(s.distance2);
-    }
-    return l;
-  };
-  // The closest curve point, remembered for the last point asked: the refinement asks about a
-  // triangle's centroid several times in a row.
-  struct
-  {
-    Vec2 p{ std::numeric_limits<double>::quiet_NaN(), 0.0 };
-    BoundaryRails::Location location;
-    double distance = 0.0;
-  } last;
-  const auto closest = [&](Vec2 p, double* distance)
-  {
-    if (!(p == last.p))
-    {
-      last.p = p;
-      last.location = railsClosest(p, &last.distance, HUGE_VAL);
-    }
-    if (distance)
-    {
-      *distance = last.distance;
-    }
-    return last.location;
-  };
-  // The closest curve point if it lies nearer than r, else chain -1 (*distance r): a point far
-  // from every curve prunes the whole strip tree at once. A found one is remembered as above.
+  CurveQuery query{ rails, curveCells, field, cell };
+  const auto closest = [&](Vec2 p, double* distance) { return query.closest(p, distance); };
   const auto within = [&](Vec2 p, double r, double* distance)
+  { return query.within(p, r, distance); };
+  const auto regionOf = [&](Vec2 p) { return query.regionOf(p); };
+  // Many points at once (the recovery's centroids): on two threads, the second with its own
+  // queries, each taking every other run of points (CurveQuery::regionsNear).
+  CurveQuery query2{ rails, curveCells, field, cell };
+  const auto regionsNear = [&](const Vec2* p, const double* reach, std::size_t n, int* region)
   {
-    if (p == last.p)
-    {
-      if (distance)
-      {
-        *distance = std::min(last.distance, r);
-      }
-      return last.distance < r ? last.location : BoundaryRails::Location{};
-    }
-    double d = r;
-    const BoundaryRails::Location l = railsClosest(p, &d, r);
-    if (l.chain >= 0)
-    {
-      last.p = p;
-      last.location = l;
-      last.distance = d;
-    }
-    if (distance)
-    {
-      *distance = d;
-    }
-    return l;
+    bothHalves([&] { query.regionsNear(p, reach, n, 0, region); },
+      [&] { query2.regionsNear(p, reach, n, 1, region); });
   };
   if (compressed.offCurveBoundaryVertices > 0 &&
     snapStrayBoundaryVertices(compressed, rails, scratch, onCurveTolerance) ==
@@ -502,41 +574,39 @@ void refineCompressed(CompressionResult& compressed,
         { return w.find("could not be placed on a curve") != std::string::npos; }),
       compressed.warnings.end());
   }
-  DistanceField::Scratch fieldScratch;
-  const auto regionOf = [&](Vec2 p)
-  {
-    // The side of the nearest curve point when it lies inside a segment (cheap), else the
-    // distance field's regions (where curves meet, the side of one segment can mislead).
-    const BoundaryRails::Location l = closest(p, nullptr);
-    if (l.chain >= 0 && l.t > 1e-9 && l.t < 1.0 - 1e-9)
-    {
-      const BoundaryRails::Chain& c = rails.chain(l.chain);
-      const double side = cross(rails.tangent(l), p - rails.position(l));
-      if (side != 0.0)
-      {
-        return side > 0.0 ? c.left : c.right;
-      }
-    }
-    return field.region(p, fieldScratch);
-  };
   if (params.curveRecovery)
   {
     // A vertex off the curves that keeps a triangle from taking the region at its centroid
     // (a corner of a lost layer, the border of a hole) moves onto its curve when it can.
-    std::vector<char> wrong(compressed.triangles.size());
-    for (std::size_t t = 0; t < wrong.size(); ++t)
+    // (A triangle with a curve nearer to its centroid than its longest edge whose centroid
+    // lies in another region; the centroids are asked in blocks, between progress reports.)
+    const std::size_t nt = compressed.triangles.size();
+    std::vector<char> wrong(nt);
+    std::vector<Vec2> centroids;
+    std::vector<double> reach;
+    std::vector<int> near;
+    constexpr std::size_t kBlock = std::size_t(1) << 15;
+    for (std::size_t begin = 0; begin < nt; begin += kBlock)
     {
-      if ((t & 4095) == 0)
+      progress.report(0.0, "refining toward the minimum angle");
+      const std::size_t end = std::min(nt, begin + kBlock);
+      centroids.clear();
+      reach.clear();
+      for (std::size_t t = begin; t < end; ++t)
       {
-        progress.report(0.0, "refining toward the minimum angle");
+        const auto& tri = compressed.triangles[t];
+        const Vec2 a = compressed.points[tri[0]], b = compressed.points[tri[1]],
+                   c = compressed.points[tri[2]];
+        centroids.push_back((1.0 / 3.0) * (a + b + c));
+        reach.push_back(std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) })));
       }
-      const auto& tri = compressed.triangles[t];
-      const Vec2 a = compressed.points[tri[0]], b = compressed.points[tri[1]],
-                 c = compressed.points[tri[2]];
-      const Vec2 g = (1.0 / 3.0) * (a + b + c);
-      const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-      wrong[t] =
-        within(g, longest, nullptr).chain >= 0 && regionOf(g) != compressed.triangleRegion[t];
+      near.resize(end - begin);
+      regionsNear(centroids.data(), reach.data(), end - begin, near.data());
+      for (std::size_t t = begin; t < end; ++t)
+      {
+        wrong[t] =
+          near[t - begin] != kNoCurveNear && near[t - begin] != compressed.triangleRegion[t];
+      }
     }
     snapStrayBoundaryVertices(
       compressed, rails, scratch, onCurveTolerance, [&](int t) { return wrong[t] != 0; });
@@ -641,6 +711,7 @@ void refineCompressed(CompressionResult& compressed,
   if (params.curveRecovery)
   {
     rp.regionAt = regionOf;
+    rp.regionsNear = regionsNear;
     rp.onCurve = [&](Vec2 p)
     {
       double d = 0.0;
