@@ -240,6 +240,13 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
     unresolved->InsertNextValue(id);
   }
   fd->AddArray(unresolved);
+  auto broken = vtkSmartPointer<vtkIntArray>::New();
+  broken->SetName("BrokenRegions");
+  for (int id : result.brokenRegions)
+  {
+    broken->InsertNextValue(id);
+  }
+  fd->AddArray(broken);
   for (const auto& [stage, seconds] : s.secondsPerStage)
   {
     vtkStrataMeshOutput::AddField(fd, StageFieldName(stage).c_str(), seconds);

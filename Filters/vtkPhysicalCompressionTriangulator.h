@@ -30,6 +30,8 @@
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
+ * `BrokenRegions` (ids of the regions the mesh cuts into more pieces than the model has,
+ * where a layer is thinner than the finest triangles; also named in a warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
  * that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below MinimumAngle by more
  * than 0.05 degrees that neither an input corner nor a kept one forces; a warning names the
@@ -285,10 +287,13 @@ public:
    * with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length field),
    * CurveRecovery and MinimumAngle 25 or more: a mesh still below 25 degrees where no input
    * corner sharper than 25 forces it (layers about a finest edge thick), or with a region's
-   * area still off by more than 0.5% (a piece of a thin layer lost), is made again with
-   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or, for the area,
-   * when its area error is smaller and its smallest angle is not (up to 30 degrees) (field
-   * `LocalMaxLevel`, a warning). Off: one mesh, as made.
+   * area still off by more than 0.5% (a piece of a thin layer lost), or, with MaxLevel
+   * automatic too, with a region cut into more pieces than the model has (`BrokenRegions`), is
+   * made again with LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or,
+   * for the area, when its area error is smaller and its smallest angle is not (up to 30
+   * degrees), or, for the pieces, when fewer regions are cut and neither the smallest angle
+   * nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning). Off: one mesh, as
+   * made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

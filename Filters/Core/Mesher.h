@@ -69,9 +69,13 @@ struct MesherParams
   /// the mesh without it the second, whatever this says. Then, with the automatic levels
   /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a
   /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
-  /// angle: a mesh still below 25 degrees (layers about a finest edge thick) is made again with
-  /// grid.localMaxLevel 4 levels finer than the automatic one, and kept when its smallest angle
-  /// is larger (a warning gives both; Summary::localMaxLevel). Default on.
+  /// angle: a mesh still below 25 degrees (layers about a finest edge thick), or with a
+  /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
+  /// region cut into more pieces than the model has (MesherResult::brokenRegions), is made
+  /// again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when its
+  /// smallest angle is larger, or when it mends the area or the pieces without a smaller
+  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel). Default
+  /// on.
   bool thinLayerRetry = true;
 };
 
@@ -113,6 +117,11 @@ struct MesherResult
   /// Ids of the regions whose triangles cover less than half of their model area (regions
   /// thinner or smaller than the finest triangles); each is also named in `warnings`.
   std::vector<int> unresolvedRegions;
+  /// Ids of the regions the mesh cuts into more pieces than the model has (pieces of at
+  /// least 4 median boundary edge lengths squared counted on both sides, as the independent
+  /// checker counts them; mesh pieces joined across edges): a layer broken where it is thinner
+  /// than the finest triangles. Each is also named in `warnings`, with both counts.
+  std::vector<int> brokenRegions;
   /// The corners MesherParams::keepSharpCorners kept: the region `region`'s corner of `angle`
   /// degrees at `apex` (local); its wedge reaches `radius` from the apex, and its triangles are
   /// the region's within that radius whose centroid lies inside `outline` (apex, first side,

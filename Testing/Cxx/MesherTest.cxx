@@ -15,6 +15,8 @@
 #include <map>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace
 {
@@ -1045,6 +1047,98 @@ TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
   const strata::MesherResult s = strata::triangulate(raw, set);
   EXPECT_EQ(s.summary.localMaxLevel, r.summary.localMaxLevel);
   EXPECT_GT(s.summary.maxRegionAreaError, 0.005);
+  EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
+}
+
+namespace
+{
+// The pieces of region `region` in the mesh: its triangles joined across shared edges, counted
+// when their area is at least `floor` (the test's own count, from the triangles).
+int piecesOf(const strata::MesherResult& r, int region, double floor)
+{
+  std::vector<int> parent(r.triangles.size());
+  for (std::size_t t = 0; t < parent.size(); ++t)
+  {
+    parent[t] = static_cast<int>(t);
+  }
+  const auto find = [&](int t)
+  {
+    while (parent[t] != t)
+    {
+      t = parent[t] = parent[parent[t]];
+    }
+    return t;
+  };
+  std::map<std::pair<int, int>, int> firstAcross; // edge -> a triangle of the region on it
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3 && r.regionId[t] == region; ++k)
+    {
+      const int a = r.triangles[t][k], b = r.triangles[t][(k + 1) % 3];
+      const auto [it, added] =
+        firstAcross.emplace(std::make_pair(std::min(a, b), std::max(a, b)), static_cast<int>(t));
+      if (!added)
+      {
+        parent[find(it->second)] = find(static_cast<int>(t));
+      }
+    }
+  }
+  std::map<int, double> area;
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    if (r.regionId[t] == region)
+    {
+      const auto& tri = r.triangles[t];
+      area[find(static_cast<int>(t))] +=
+        0.5 * strata::orient2d(r.points[tri[0]], r.points[tri[1]], r.points[tri[2]]);
+    }
+  }
+  return static_cast<int>(std::count_if(area.begin(),
+    area.end(),
+    [&](const std::pair<const int, double>& p) { return p.second >= floor; }));
+}
+} // namespace
+
+// A layer the mesh cuts where it is about 1.3 finest edges thick (broken_layer_section.vtp,
+// region 3, one piece in the model; LocalMaxLevel 14 automatic): the mesh made once has it in
+// two pieces, and names it (brokenRegions, a warning with both counts). ThinLayerRetry makes
+// the mesh again 4 levels finer, where the layer is one piece, and keeps that one; with the
+// level set by the user the cut layer stays, named.
+TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAtAFinerLevel)
+{
+  const auto [raw, r] = madeOnce("broken_layer_section.vtp");
+  const double floor = 4.0 * r.summary.finestEdgeLength * r.summary.finestEdgeLength;
+  ASSERT_EQ(piecesOf(r, 3, floor), 2);
+  EXPECT_EQ(r.brokenRegions, std::vector<int>{ 3 });
+  const std::string warnings = allWarnings(r);
+  EXPECT_NE(
+    warnings.find("regions the mesh cuts into more pieces than the model has"), std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("): 3 (2/1);"), std::string::npos) << warnings;
+  for (int region = 0; region < 7; ++region)
+  {
+    EXPECT_EQ(piecesOf(r, region, floor), region == 3 ? 2 : 1) << "region " << region;
+  }
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_TRUE(d.brokenRegions.empty());
+  const double finerFloor = 4.0 * d.summary.finestEdgeLength * d.summary.finestEdgeLength;
+  for (int region = 0; region < 7; ++region)
+  {
+    EXPECT_EQ(piecesOf(d, region, finerFloor), 1) << "region " << region;
+  }
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  EXPECT_LE(d.summary.maxRegionAreaError, 0.005);
+  const std::string dw = allWarnings(d);
+  EXPECT_NE(dw.find("cut 1 region(s) into more pieces than the model has"), std::string::npos)
+    << dw;
+  EXPECT_NE(dw.find("the finer one is kept"), std::string::npos) << dw;
+
+  strata::MesherParams set;
+  set.grid.localMaxLevel = r.summary.localMaxLevel;
+  const strata::MesherResult s = strata::triangulate(raw, set);
+  EXPECT_EQ(s.brokenRegions, std::vector<int>{ 3 });
   EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
 }
 

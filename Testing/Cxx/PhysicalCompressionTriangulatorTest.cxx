@@ -92,6 +92,7 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
          "RefinementVertices",
          "CurveVertices",
          "UnresolvedRegions",
+         "BrokenRegions",
          "TrianglesAtSharpCorners",
          "TrianglesBelowMinimumAngle",
          "LocalMaxLevel" })

@@ -33,6 +33,36 @@ def min_angles(mesh):
     return np.min(angles, axis=0)
 
 
+def pieces(mesh, region, floor):
+    """Pieces of `region` at least `floor` in area: its triangles joined across shared edges."""
+    cells = np.asarray(mesh.Cells).reshape(-1, 4)[:, 1:]
+    regions = np.asarray(mesh.CellData["RegionId"])
+    areas = np.abs(signed_areas(mesh))
+    mine = np.nonzero(regions == region)[0]
+    parent = {int(t): int(t) for t in mine}
+
+    def find(t):
+        while parent[t] != t:
+            parent[t] = parent[parent[t]]
+            t = parent[t]
+        return t
+
+    first = {}
+    for t in mine:
+        for k in range(3):
+            a, b = cells[t, k], cells[t, (k + 1) % 3]
+            key = (min(a, b), max(a, b))
+            if key in first:
+                parent[find(first[key])] = find(int(t))
+            else:
+                first[key] = int(t)
+    sums = {}
+    for t in mine:
+        root = find(int(t))
+        sums[root] = sums.get(root, 0.0) + areas[t]
+    return sum(1 for value in sums.values() if value >= floor)
+
+
 def field(mesh, name):
     """A field data value; fails when the array is missing (dsa gives a silent VTKNoneArray)."""
     array = mesh.VTKObject.GetFieldData().GetArray(name)
@@ -243,6 +273,20 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(field(once, "MaxRegionAreaError"), 0.02)
         self.assertEqual(field(default, "LocalMaxLevel"), field(once, "LocalMaxLevel") + 4)
         self.assertLessEqual(field(default, "MaxRegionAreaError"), 0.005)
+        self.assertGreaterEqual(field(default, "MinimumAngle"), 29.95)
+
+    def test_a_layer_the_mesh_cuts_is_named_and_made_whole_at_a_finer_level(self):
+        # Region 3 is one piece in the model; made once, the mesh cuts it in two where it is
+        # about 1.3 finest edges thick and names it in BrokenRegions; by default the mesh is made
+        # again 4 levels finer, where it is one piece.
+        default, once = default_and_changed("broken_layer_section.vtp", ThinLayerRetry=0)
+        finest = field(once, "FinestEdgeLength")
+        self.assertEqual(pieces(once, 3, 4 * finest * finest), 2)
+        self.assertEqual(list(np.asarray(once.FieldData["BrokenRegions"]).ravel()), [3])
+        self.assertEqual(field(default, "LocalMaxLevel"), field(once, "LocalMaxLevel") + 4)
+        self.assertEqual(pieces(default, 3, 4 * finest * finest), 1)
+        broken = default.VTKObject.GetFieldData().GetArray("BrokenRegions")
+        self.assertEqual(broken.GetNumberOfTuples(), 0)
         self.assertGreaterEqual(field(default, "MinimumAngle"), 29.95)
 
     def test_out_of_range_values_are_refused_naming_the_property(self):

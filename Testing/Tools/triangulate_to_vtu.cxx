@@ -253,7 +253,7 @@ int main(int argc, char** argv)
                 " \"triangles_below_minimum_angle\": %zu,\n"
                 " \"refinement_vertices\": %zu, \"curve_vertices\": %zu,\n"
                 " \"sharp_corners\": %zu, \"kept_corners\": %zu, \"kept_corner_triangles\": %zu,\n"
-                " \"thin_layer_mesh\": %s,\n",
+                " \"thin_layer_mesh\": %s, \"local_max_level\": %d,\n",
       s.triangles,
       s.vertices,
       s.minAngle,
@@ -274,7 +274,8 @@ int main(int argc, char** argv)
       s.sharpCorners,
       r.keptCorners.size(),
       s.keptCornerTriangles,
-      s.thinLayerMesh ? "true" : "false");
+      s.thinLayerMesh ? "true" : "false",
+      s.localMaxLevel);
     std::printf(" \"kept_corner_list\": [");
     for (std::size_t i = 0; i < r.keptCorners.size(); ++i)
     {
