@@ -944,8 +944,9 @@ double regionArea(const Region& region)
 
 // The pieces of each region at least `floor` in area: in the model its counter-clockwise
 // rings (outer boundaries), in the mesh its triangles joined across shared edges (each edge
-// found in the star of its first end). Returns "id (mesh/model)" for each region the mesh has
-// more such pieces of, and their ids in `broken`.
+// once, from the triangle where it runs from its lower vertex id, found in that end's star).
+// Returns "id (mesh/model)" for each region the mesh has more such pieces of, and their ids in
+// `broken`.
 std::string brokenRegions(const Model& model,
   const MesherResult& result,
   double floor,
@@ -973,7 +974,7 @@ std::string brokenRegions(const Model& model,
     for (int k = 0; k < 3; ++k)
     {
       const int a = tri[k], b = tri[(k + 1) % 3];
-      for (int s = stars.start[a]; s < stars.start[a + 1]; ++s)
+      for (int s = stars.start[a]; a < b && s < stars.start[a + 1]; ++s)
       {
         const int u = stars.items[s];
         const std::array<int, 3>& o = result.triangles[u];
