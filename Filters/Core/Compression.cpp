@@ -1815,16 +1815,34 @@ std::size_t Compressor::flipDegenerate()
   static const double smallSine = std::sin(kSmallAngle * 3.14159265358979323846 / 180.0);
   std::size_t flips = 0;
   const auto& x = this->Sys->positions();
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  const auto degenerate = [&](std::size_t t)
+  {
+    const std::array<int, 3>& tri = this->Tri[t];
+    return this->twiceArea(static_cast<int>(t)) < kSmallArea * this->RestTwice[t] ||
+      minAngleSine(x[tri[0]], x[tri[1]], x[tri[2]]) < smallSine;
+  };
+  // The test of every triangle first, in two halves on two threads (it only reads); then the
+  // flips in order, testing again the triangles a flip before changed: the serial result.
+  const std::size_t nt = this->Tri.size();
+  LargeVector<std::uint8_t>& marks = this->DegenerateMarks;
+  marks.resize(nt);
+  const auto test = [&](std::size_t from, std::size_t to)
+  {
+    for (std::size_t t = from; t < to; ++t)
+    {
+      marks[t] = degenerate(t) ? kDegenerate : 0;
+    }
+  };
+  bothHalves([&] { test(0, nt / 2); }, [&] { test(nt / 2, nt); });
+  for (std::size_t t = 0; t < nt; ++t)
   {
     this->poll(t);
-    const std::array<int, 3>& tri = this->Tri[t];
     const int ti = static_cast<int>(t);
-    if (!(this->twiceArea(ti) < kSmallArea * this->RestTwice[t] ||
-          minAngleSine(x[tri[0]], x[tri[1]], x[tri[2]]) < smallSine))
+    if (!(marks[t] & kChanged ? degenerate(t) : marks[t] == kDegenerate))
     {
       continue;
     }
+    const std::array<int, 3>& tri = this->Tri[t];
     int longest = 0;
     double best = -1.0;
     for (int k = 0; k < 3; ++k)
@@ -1836,7 +1854,15 @@ std::size_t Compressor::flipDegenerate()
         longest = k;
       }
     }
-    flips += this->tryFlip(ti, longest, true);
+    const std::size_t before = this->Flipped.size();
+    if (this->tryFlip(ti, longest, true))
+    {
+      ++flips;
+      for (std::size_t i = before; i < this->Flipped.size(); ++i)
+      {
+        marks[this->Flipped[i]] |= kChanged;
+      }
+    }
   }
   if (flips > 0)
   {

@@ -316,6 +316,9 @@ private:
   LargeVector<int> Flipped;
   LargeVector<std::uint8_t> FlippedMark;
   LargeVector<int> StarScratch;
+  // flipDegenerate()'s marks per triangle: kDegenerate as first tested, kChanged once flipped.
+  static constexpr std::uint8_t kDegenerate = 1, kChanged = 2;
+  LargeVector<std::uint8_t> DegenerateMarks;
   std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 
