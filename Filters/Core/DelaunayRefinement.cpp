@@ -481,7 +481,7 @@ private:
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
   bool retag(int t, char* far = nullptr, const int* near = nullptr);
-  std::vector<int> centroidRegionsNear();
+  LargeVector<int> centroidRegionsNear();
   void appendNeighbours(int t, std::vector<int>& list) const
   {
     for (int n : this->Nbr[t])
@@ -1130,7 +1130,7 @@ std::size_t Refiner::recoverCurves()
   // not probed. Insertions change only the triangles they report (the new vertex's star).
   // The centroids' curve queries (geometry only: the rounds change regions, not positions)
   // are asked all at once first when the caller can answer them so.
-  const std::vector<int> near = this->centroidRegionsNear();
+  const LargeVector<int> near = this->centroidRegionsNear();
   std::vector<int> todo(queue.begin(), queue.end()), next;
   std::vector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
@@ -1412,9 +1412,9 @@ std::size_t Refiner::followCurves()
 // For every live triangle, the region at its centroid when a curve lies nearer to it than
 // its longest edge, else kNoCurveNear (RefinementParams::regionsNear, in blocks between
 // polls); empty without regionsNear or curveDistance.
-std::vector<int> Refiner::centroidRegionsNear()
+LargeVector<int> Refiner::centroidRegionsNear()
 {
-  std::vector<int> region;
+  LargeVector<int> region;
   if (!this->P.regionsNear || !this->P.curveDistance)
   {
     return region;

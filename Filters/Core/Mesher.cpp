@@ -954,7 +954,7 @@ std::string brokenRegions(const Model& model,
 {
   const std::size_t nt = result.triangles.size();
   const PointStars stars = pointStars(result.points.size(), result.triangles);
-  std::vector<int> parent(nt);
+  LargeVector<int> parent(nt);
   for (std::size_t t = 0; t < nt; ++t)
   {
     parent[t] = static_cast<int>(t);
@@ -986,7 +986,7 @@ std::string brokenRegions(const Model& model,
       }
     }
   }
-  std::vector<double> pieceArea(nt, 0.0);
+  LargeVector<double> pieceArea(nt, 0.0);
   for (std::size_t t = 0; t < nt; ++t)
   {
     pieceArea[find(static_cast<int>(t))] += result.area[t];
