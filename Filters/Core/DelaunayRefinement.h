@@ -76,10 +76,10 @@ struct RefinementParams
   /// bound, which lets a far query stop early).
   std::function<bool(Vec2 from, Vec2 toward, int left, int right, Vec2& at)> curveSlide;
   std::function<double(Vec2 p, double within)> curveDistance;
-  /// Optional, with the curve recovery and curveDistance: the answers of those two for many
-  /// points at once (the recovery's first retag asks about every triangle's centroid), so
-  /// that the caller may give them on two threads. For each i < n: region[i] = regionAt(p[i])
-  /// when curveDistance(p[i], within[i]) < within[i], else kNoCurveNear. Empty: the
+  /// Optional, with the curve recovery and curveDistance: the answers of curveDistance and
+  /// regionAt for many points at once (the recovery's first retag asks about every triangle's
+  /// centroid), so that the caller may give them on two threads. For each i < n: region[i] =
+  /// regionAt(p[i]) when curveDistance(p[i], within[i]) < within[i], else kNoCurveNear. Empty: the
   /// refinement asks curveDistance and regionAt one point at a time.
   std::function<void(const Vec2* p, const double* within, std::size_t n, int* region)> regionsNear;
   /// Optional, with the curve recovery: whether the model has a corner of region `region`
