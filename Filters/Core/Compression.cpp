@@ -1091,7 +1091,8 @@ void Compressor::buildSubMesh()
   sm.triangles = this->Tri;
   sm.edges = std::move(edges);
   this->Progress.report(this->At, this->Stage);
-  this->Sys = std::make_unique<SpringSystem>(std::move(sm), std::move(x), rest, sp);
+  this->Sys = std::make_unique<SpringSystem>(
+    std::move(sm), std::move(x), rest, sp, this->Progress.sub(this->At, this->At));
   this->Progress.report(this->At, this->Stage);
   this->rebuildStars();
 

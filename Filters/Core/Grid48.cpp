@@ -1680,7 +1680,7 @@ void Grid48::split(int t, double midpointDistance, std::vector<int>* pending, bo
   }
 }
 
-TriangleMesh Grid48::extract(int level) const
+TriangleMesh Grid48::extract(int level, const ProgressReporter& progress) const
 {
   if (level < -1)
   {
@@ -1689,7 +1689,16 @@ TriangleMesh Grid48::extract(int level) const
   }
   const int cut = level < 0 ? MaxSupportedLevel + 1 : level;
   TriangleMesh mesh;
-  LargeVector<int> map(this->Lattice.size(), -1);
+  // The finest mesh's sizes are known: no array grows by copies.
+  const std::size_t leaves = level < 0 ? this->Leaves : 0, vertices = this->Lattice.size();
+  mesh.triangles.reserve(leaves);
+  mesh.triangleLevel.reserve(leaves);
+  mesh.triangleNode.reserve(leaves);
+  mesh.points.reserve(level < 0 ? vertices : 0);
+  mesh.pointLevel.reserve(level < 0 ? vertices : 0);
+  mesh.pointVertex.reserve(level < 0 ? vertices : 0);
+  mesh.pointBoundaryDistance.reserve(level < 0 ? vertices : 0);
+  LargeVector<int> map(vertices, -1);
   std::vector<int> stack = { 3, 2, 1, 0 };
   auto point = [&](int v)
   {
@@ -1714,6 +1723,14 @@ TriangleMesh Grid48::extract(int level) const
       stack.push_back(this->Child[n] + 1);
       stack.push_back(this->Child[n]);
       continue;
+    }
+    if ((mesh.triangles.size() & 0xffff) == 0)
+    {
+      progress.report(this->Leaves > 0
+          ? std::min(
+              1.0, static_cast<double>(mesh.triangles.size()) / static_cast<double>(this->Leaves))
+          : 0.0,
+        "extracting the grid");
     }
     const std::array<int, 3>& v = this->Vert[n];
     mesh.triangles.push_back({ point(v[0]), point(v[1]), point(v[2]) });

@@ -312,7 +312,8 @@ public:
   /// The conforming mesh of level `level`: every node of that level and every leaf coarser
   /// than it; level -1 (or >= maxLeafLevel()) gives all leaves (the finest mesh). The meshes
   /// of levels 0..maxLeafLevel() are nested. Points are numbered in order of first use.
-  TriangleMesh extract(int level = -1) const;
+  /// Progress is reported every 64 k triangles (stage "extracting the grid").
+  TriangleMesh extract(int level = -1, const ProgressReporter& progress = ProgressReporter()) const;
 
   // Domain.
   Vec2 origin() const { return this->Origin; } ///< lower left corner of the square (local)

@@ -1252,8 +1252,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
   const DistanceField field(model);
   stage("distance field");
 
-  const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.15));
-  const TriangleMesh mesh = grid.extract();
+  const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.14));
+  const TriangleMesh mesh = grid.extract(-1, progress.sub(0.14, 0.15));
   result.summary.finestEdgeLength = finestEdgeLength(grid, params);
   result.summary.localMaxLevel = grid.params().localMaxLevel;
   stage("grid");

@@ -495,7 +495,8 @@ std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration confi
 SpringSystem::SpringSystem(SpringMesh mesh,
   LargeVector<Vec2> positions,
   const LargeVector<Vec2>& rest,
-  const SpringParams& params)
+  const SpringParams& params,
+  const ProgressReporter& progress)
   : Params(params)
   , Mesh(std::move(mesh))
   , X(std::move(positions))
@@ -527,6 +528,8 @@ SpringSystem::SpringSystem(SpringMesh mesh,
       throw ParameterError("SpringSystem: an edge refers to a particle out of range");
     }
   }
+  const char* stage = "building the spring system";
+  progress.report(0.0, stage);
   this->V.assign(n, Vec2{});
   this->F.assign(n, Vec2{});
   this->K.assign(n, 0.0);
@@ -547,8 +550,10 @@ SpringSystem::SpringSystem(SpringMesh mesh,
   }
   for (std::unique_ptr<SpringSet>& set : makeSpringSets(params.configuration))
   {
+    progress.report(0.0, stage);
     this->addSpringSet(std::move(set));
   }
+  progress.report(0.0, stage);
 }
 
 SpringSystem::SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const SpringParams& params)
