@@ -942,18 +942,83 @@ double regionArea(const Region& region)
   return sum;
 }
 
+// The directed edges of a triangle mesh by start vertex (CSR): out[start[a] .. start[a + 1])
+// holds (b, t) for each edge a -> b of triangle t (counter-clockwise).
+struct DirectedEdges
+{
+  std::vector<int> start;
+  LargeVector<std::pair<int, int>> out;
+
+  DirectedEdges(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles)
+    : start(numberOfPoints + 1, 0)
+  {
+    for (const auto& tri : triangles)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        ++this->start[tri[k] + 1];
+      }
+    }
+    for (std::size_t i = 0; i < numberOfPoints; ++i)
+    {
+      this->start[i + 1] += this->start[i];
+    }
+    this->out.resize(this->start.back());
+    std::vector<int> fill(this->start.begin(), this->start.end() - 1);
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        this->out[fill[triangles[t][k]]++] = { triangles[t][(k + 1) % 3], static_cast<int>(t) };
+      }
+    }
+  }
+
+  // The triangle of the edge b -> a (the twin of a -> b), or -1.
+  int across(int a, int b) const
+  {
+    int t = -1;
+    for (int r = this->start[b]; r < this->start[b + 1]; ++r)
+    {
+      if (this->out[r].first == a)
+      {
+        t = this->out[r].second;
+      }
+    }
+    return t;
+  }
+};
+
+// The median length of the approximated boundary's edges (0 without any).
+double medianBoundaryEdge(const std::vector<MesherResult::BoundaryCurve>& boundary)
+{
+  std::vector<double> lengths;
+  for (const MesherResult::BoundaryCurve& c : boundary)
+  {
+    for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
+    {
+      lengths.push_back(norm2(c.points[i + 1] - c.points[i]));
+    }
+  }
+  if (lengths.empty())
+  {
+    return 0.0;
+  }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  return std::sqrt(lengths[lengths.size() / 2]);
+}
+
 // The pieces of each region at least `floor` in area: in the model its counter-clockwise
-// rings (outer boundaries), in the mesh its triangles joined across shared edges (each edge
-// once, from the triangle where it runs from its lower vertex id, found in that end's star).
-// Returns "id (mesh/model)" for each region the mesh has more such pieces of, and their ids in
-// `broken`.
+// rings (outer boundaries), in the mesh its triangles joined across shared edges (`edges`,
+// the mesh's; each edge once, from its lower vertex id). Returns "id (mesh/model)" for each
+// region the mesh has more such pieces of, and their ids in `broken`.
 std::string brokenRegions(const Model& model,
   const MesherResult& result,
+  const DirectedEdges& edges,
   double floor,
   std::vector<int>& broken)
 {
   const std::size_t nt = result.triangles.size();
-  const PointStars stars = pointStars(result.points.size(), result.triangles);
   LargeVector<int> parent(nt);
   for (std::size_t t = 0; t < nt; ++t)
   {
@@ -968,20 +1033,17 @@ std::string brokenRegions(const Model& model,
     }
     return t;
   };
-  for (std::size_t t = 0; t < nt; ++t)
+  for (std::size_t a = 0; a + 1 < edges.start.size(); ++a)
   {
-    const std::array<int, 3>& tri = result.triangles[t];
-    for (int k = 0; k < 3; ++k)
+    for (int s = edges.start[a]; s < edges.start[a + 1]; ++s)
     {
-      const int a = tri[k], b = tri[(k + 1) % 3];
-      for (int s = stars.start[a]; a < b && s < stars.start[a + 1]; ++s)
+      const auto [b, t] = edges.out[s];
+      if (static_cast<int>(a) < b)
       {
-        const int u = stars.items[s];
-        const std::array<int, 3>& o = result.triangles[u];
-        if (u != static_cast<int>(t) && result.regionId[u] == result.regionId[t] &&
-          (o[0] == b || o[1] == b || o[2] == b))
+        const int u = edges.across(static_cast<int>(a), b);
+        if (u >= 0 && result.regionId[u] == result.regionId[t])
         {
-          parent[find(static_cast<int>(t))] = find(u);
+          parent[find(t)] = find(u);
         }
       }
     }
@@ -1452,46 +1514,20 @@ MesherResult triangulateOnce(const RawPolylines& input,
   result.boundary = approximatedBoundary(result.points, result.triangles, result.regionId);
   progress.report(0.95, "writing the mesh");
   result.vertexClass.assign(result.points.size(), VertexInterior);
+  // The mesh's directed edges: the vertex classes here, the regions' pieces below.
+  const DirectedEdges edges(result.points.size(), result.triangles);
+  const double medianEdge = medianBoundaryEdge(result.boundary);
   {
     // Boundary vertices: ends of an edge whose two sides have different regions (or one side
     // no triangle).
-    std::vector<int> start(result.points.size() + 1, 0);
-    for (const auto& tri : result.triangles)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        ++start[tri[k] + 1];
-      }
-    }
-    for (std::size_t i = 0; i + 1 < start.size(); ++i)
-    {
-      start[i + 1] += start[i];
-    }
-    std::vector<std::pair<int, int>> out(start.back());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < result.triangles.size(); ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        out[fill[result.triangles[t][k]]++] = { result.triangles[t][(k + 1) % 3],
-          result.regionId[t] };
-      }
-    }
     for (std::size_t a = 0; a < result.points.size(); ++a)
     {
       poll();
-      for (int s = start[a]; s < start[a + 1]; ++s)
+      for (int s = edges.start[a]; s < edges.start[a + 1]; ++s)
       {
-        const int b = out[s].first;
-        int right = -1;
-        for (int r = start[b]; r < start[b + 1]; ++r)
-        {
-          if (out[r].first == static_cast<int>(a))
-          {
-            right = out[r].second;
-          }
-        }
-        if (right != out[s].second)
+        const auto [b, t] = edges.out[s];
+        const int u = edges.across(static_cast<int>(a), b);
+        if ((u >= 0 ? result.regionId[u] : -1) != result.regionId[t])
         {
           result.vertexClass[a] = VertexBoundary;
           result.vertexClass[b] = VertexBoundary;
@@ -1505,22 +1541,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
     double maxVertex = 0.0, maxMeshToModel = 0.0;
     // Distances through SegmentGrids (cells the median boundary edge wide) when they tell,
     // within two cells, the same distance as the strip trees.
-    double cell = 0.0;
-    {
-      std::vector<double> lengths;
-      for (const MesherResult::BoundaryCurve& c : result.boundary)
-      {
-        for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
-        {
-          lengths.push_back(norm2(c.points[i + 1] - c.points[i]));
-        }
-      }
-      if (!lengths.empty())
-      {
-        std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
-        cell = std::sqrt(lengths[lengths.size() / 2]);
-      }
-    }
+    const double cell = medianEdge;
     const auto most = [](std::size_t segments)
     { return std::min<std::size_t>(std::size_t(1) << 21, 16 * segments + 4096); };
     // The squared distance from p to the cells' segments, when found within two cells.
@@ -1653,23 +1674,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
   }
   // (Pieces below 4 median boundary edges squared are not counted, as the independent
   // checker's topology count does: specks below the mesh's resolution.)
-  std::vector<double> boundaryEdges;
-  for (const MesherResult::BoundaryCurve& c : result.boundary)
-  {
-    for (std::size_t k = 0; k + 1 < c.points.size(); ++k)
-    {
-      boundaryEdges.push_back(norm(c.points[k + 1] - c.points[k]));
-    }
-  }
-  double median = result.summary.finestEdgeLength;
-  if (!boundaryEdges.empty())
-  {
-    std::nth_element(
-      boundaryEdges.begin(), boundaryEdges.begin() + boundaryEdges.size() / 2, boundaryEdges.end());
-    median = boundaryEdges[boundaryEdges.size() / 2];
-  }
+  const double pieceEdge = medianEdge > 0.0 ? medianEdge : result.summary.finestEdgeLength;
   const std::string broken =
-    brokenRegions(model, result, kPieceFloor * median * median, result.brokenRegions);
+    brokenRegions(model, result, edges, kPieceFloor * pieceEdge * pieceEdge, result.brokenRegions);
   if (!broken.empty())
   {
     result.warnings.push_back("regions the mesh cuts into more pieces than the model has, where "
