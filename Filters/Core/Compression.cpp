@@ -1616,6 +1616,16 @@ std::size_t Compressor::pushNewCrossings()
     this->buildCurveCells(); // (before the threads, which read it)
   }
   std::vector<int> region(nv, -3), faceRegion(faces.size(), -3);
+  if (this->WaveVertexAt.size() != nv || this->WaveFaceAt.size() != this->Tri.size())
+  {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    this->WaveVertexAt.assign(nv, Vec2{ nan, nan });
+    this->WaveVertexRegion.assign(nv, -3);
+    this->WaveFaceAt.assign(this->Tri.size(), Vec2{ nan, nan });
+    this->WaveFaceRegion.assign(this->Tri.size(), -3);
+  }
+  // (Both answers depend on the position only, for a vertex off the curves; each vertex and
+  // face is asked by one thread.)
   const auto query =
     [&](std::size_t from, std::size_t to, StripTreeScratch& rail, DistanceField::Scratch& field)
   {
@@ -1623,13 +1633,32 @@ std::size_t Compressor::pushNewCrossings()
     {
       if (i < asked.size())
       {
-        region[asked[i]] = this->vertexRegion(asked[i], rail, field);
+        const int v = asked[i];
+        if (this->onCurve(v) || !(x[v] == this->WaveVertexAt[v]))
+        {
+          region[v] = this->vertexRegion(v, rail, field);
+          if (!this->onCurve(v))
+          {
+            this->WaveVertexAt[v] = x[v];
+            this->WaveVertexRegion[v] = region[v];
+          }
+        }
+        else
+        {
+          region[v] = this->WaveVertexRegion[v];
+        }
       }
       else
       {
-        const std::array<int, 3>& tri = this->Tri[faces[i - asked.size()][0]];
-        faceRegion[i - asked.size()] =
-          this->Field.region((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]), field);
+        const int t = faces[i - asked.size()][0];
+        const std::array<int, 3>& tri = this->Tri[t];
+        const Vec2 centre = (1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]);
+        if (!(centre == this->WaveFaceAt[t]))
+        {
+          this->WaveFaceAt[t] = centre;
+          this->WaveFaceRegion[t] = this->Field.region(centre, field);
+        }
+        faceRegion[i - asked.size()] = this->WaveFaceRegion[t];
       }
     }
   };

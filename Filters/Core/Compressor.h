@@ -298,7 +298,12 @@ private:
   LargeVector<Vec2> Points; // positions before the simulation (junctions snapped)
   LargeVector<int> GStarStart, GStarItems;
   LargeVector<std::uint8_t> Candidate, Push;
-  LargeVector<double> Distance;    // boundary distance (NaN: not computed)
+  LargeVector<double> Distance; // boundary distance (NaN: not computed)
+  // pushNewCrossings' answers of its last call: the region of a vertex off the curves at the
+  // position it had (NaN: none), and of a face's barycentre; a wave asks again only where a
+  // position moved (most particles sleep by then).
+  LargeVector<Vec2> WaveVertexAt, WaveFaceAt;
+  LargeVector<int> WaveVertexRegion, WaveFaceRegion;
   LargeVector<int> JunctionOf;     // junction node a vertex was placed on, or -1
   LargeVector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
 

@@ -175,6 +175,7 @@
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
+#include "Parallel.h"
 #include "Quality.h"
 
 #include <algorithm>
@@ -219,7 +220,11 @@ constexpr double kDeviationFraction = 5e-4; // 2b': area a boundary edge may cut
 constexpr int kFollowRounds = 8;            // rounds of 2b' at most
 constexpr int kSizeRounds = 32;             // rounds of 2d at most
 constexpr int kCollapseSweeps = 4;          // sweeps of the short edge collapses (6) at most
-constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve recovery
+// Triangles (or points) from which a sweep over the whole mesh runs in two halves at once, and
+// the blocks such a sweep reports progress between.
+constexpr std::size_t kThreadedTriangles = 65536;
+constexpr std::size_t kSweepBlock = 65536;
+constexpr int kRecoveryPasses = 2; // passes of 2b-5 with the curve recovery
 // The refinement of 3 goes down to this much of minimumEdgeLength: a junction pair, a curve
 // vertex or a recovered layer often leaves a boundary edge a little shorter than the finest
 // triangles, and the triangles beside it are only mended below it (Gulf: a 22.7-degree triangle
@@ -471,6 +476,37 @@ private:
     this->Live.push_back(1);
     return static_cast<int>(this->M.triangles.size()) - 1;
   }
+  // The triangles t, increasing, for which pred(t) holds; each block's two halves at once for
+  // large meshes (pred reads only), with a progress report after each block.
+  template<class Pred>
+  std::vector<int> selectTriangles(Pred&& pred) const
+  {
+    std::vector<int> list, parts[2];
+    blockwise(
+      this->M.triangles.size(),
+      kSweepBlock,
+      kThreadedTriangles,
+      [&](std::size_t from, std::size_t to, int part)
+      {
+        for (std::size_t t = from; t < to; ++t)
+        {
+          if (pred(static_cast<int>(t)))
+          {
+            parts[part].push_back(static_cast<int>(t));
+          }
+        }
+      },
+      [&]
+      {
+        for (std::vector<int>& part : parts)
+        {
+          list.insert(list.end(), part.begin(), part.end());
+          part.clear();
+        }
+        this->report();
+      });
+    return list;
+  }
   bool needsFlip(int t, int k) const;
   bool flip(int t, int k);
   void legalize(int p, std::vector<int>& around);
@@ -512,6 +548,11 @@ private:
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
   bool encroached(int start, Vec2 p, int& segT, int& segK);
   void queueBad(const std::vector<int>& tris);
+  void report() const // poll() now
+  {
+    this->Ticks |= 1023;
+    this->poll();
+  }
   void poll() const
   {
     if ((++this->Ticks & 1023) == 0)
@@ -574,43 +615,70 @@ void Refiner::buildNeighbours()
   this->Nbr.assign(nt, { -1, -1, -1 });
   // Each directed edge a -> b of a triangle is matched at a, in a's star: its neighbour is the
   // star's triangle with the edge b -> a. A second triangle with either is not a manifold,
-  // consistently oriented mesh.
+  // consistently oriented mesh. Each point writes its own corners' slots only, so the points
+  // are matched in two halves at once (large meshes); the first point at fault is reported.
   struct Corner
   {
     int triangle, k, next, prev; // triangle[k] = a; its edge k runs a -> next, edge k+2 prev -> a
   };
-  std::vector<Corner> star;
-  for (std::size_t a = 0; a + 1 < stars.start.size(); ++a)
+  struct Fault
   {
-    star.clear();
-    for (int s = stars.start[a]; s < stars.start[a + 1]; ++s)
+    std::size_t point, next, triangle;
+  };
+  std::optional<Fault> fault, faults[2];
+  const auto match = [&](std::size_t from, std::size_t to, int part)
+  {
+    std::vector<Corner> star;
+    for (std::size_t a = from; a < to && !faults[part]; ++a)
     {
-      const int t = stars.items[s];
-      const auto& tri = this->M.triangles[t];
-      const int k = tri[0] == static_cast<int>(a) ? 0 : (tri[1] == static_cast<int>(a) ? 1 : 2);
-      star.push_back({ t, k, tri[(k + 1) % 3], tri[(k + 2) % 3] });
-    }
-    for (std::size_t i = 0; i < star.size(); ++i)
-    {
-      this->poll();
-      int found = 0, same = 0;
-      for (const Corner& c : star)
+      star.clear();
+      for (int s = stars.start[a]; s < stars.start[a + 1]; ++s)
       {
-        found += c.prev == star[i].next;
-        same += c.next == star[i].next;
-        if (c.prev == star[i].next)
+        const int t = stars.items[s];
+        const auto& tri = this->M.triangles[t];
+        const int k = tri[0] == static_cast<int>(a) ? 0 : (tri[1] == static_cast<int>(a) ? 1 : 2);
+        star.push_back({ t, k, tri[(k + 1) % 3], tri[(k + 2) % 3] });
+      }
+      for (std::size_t i = 0; i < star.size() && !faults[part]; ++i)
+      {
+        int found = 0, same = 0;
+        for (const Corner& c : star)
         {
-          this->Nbr[star[i].triangle][star[i].k] = c.triangle;
+          found += c.prev == star[i].next;
+          same += c.next == star[i].next;
+          if (c.prev == star[i].next)
+          {
+            this->Nbr[star[i].triangle][star[i].k] = c.triangle;
+          }
+        }
+        if (found > 1 || same > 1)
+        {
+          faults[part] = Fault{
+            a, static_cast<std::size_t>(star[i].next), static_cast<std::size_t>(star[i].triangle)
+          };
         }
       }
-      if (found > 1 || same > 1)
-      {
-        throw ParameterError("refineDelaunay: the edge from point " + std::to_string(a) +
-          " to point " + std::to_string(star[i].next) +
-          " belongs to more than two triangles or twice to one side (triangle " +
-          std::to_string(star[i].triangle) + "): not a manifold, consistently oriented mesh");
-      }
     }
+  };
+  const std::size_t np = stars.start.empty() ? 0 : stars.start.size() - 1;
+  blockwise(np,
+    kSweepBlock,
+    kThreadedTriangles,
+    match,
+    [&]
+    {
+      fault = fault ? fault : (faults[0] ? faults[0] : faults[1]);
+      if (!fault)
+      {
+        this->report();
+      }
+    });
+  if (fault)
+  {
+    throw ParameterError("refineDelaunay: the edge from point " + std::to_string(fault->point) +
+      " to point " + std::to_string(fault->next) +
+      " belongs to more than two triangles or twice to one side (triangle " +
+      std::to_string(fault->triangle) + "): not a manifold, consistently oriented mesh");
   }
 }
 
@@ -1083,18 +1151,37 @@ void Refiner::prepare()
 void Refiner::flipToDelaunay()
 {
   const std::size_t nt = this->M.triangles.size();
-  LargeVector<std::array<int, 2>> stack;
-  for (std::size_t t = 0; t < nt; ++t)
-  {
-    this->poll();
-    for (int k = 0; k < 3; ++k)
+  // Every interior edge once, in order, would be stacked; only those that need a flip now are
+  // (each block's two halves tested at once for large meshes): the others are Delaunay, and
+  // one that a flip changes is stacked by that flip, so the flips are those of the full stack.
+  LargeVector<std::array<int, 2>> stack, parts[2];
+  blockwise(
+    nt,
+    kSweepBlock,
+    kThreadedTriangles,
+    [&](std::size_t from, std::size_t to, int part)
     {
-      if (static_cast<std::size_t>(this->Nbr[t][k]) > t)
+      for (std::size_t t = from; t < to; ++t)
       {
-        stack.push_back({ static_cast<int>(t), k });
+        for (int k = 0; k < 3; ++k)
+        {
+          if (static_cast<std::size_t>(this->Nbr[t][k]) > t &&
+            this->needsFlip(static_cast<int>(t), k))
+          {
+            parts[part].push_back({ static_cast<int>(t), k });
+          }
+        }
       }
-    }
-  }
+    },
+    [&]
+    {
+      for (auto& list : parts)
+      {
+        stack.insert(stack.end(), list.begin(), list.end());
+        list.clear();
+      }
+      this->report();
+    });
   while (!stack.empty())
   {
     this->poll();
@@ -2034,16 +2121,11 @@ void Refiner::adopt(const Refiner& prepared)
 
 RefinementResult Refiner::run()
 {
-  const std::size_t nt = this->M.triangles.size();
   if (this->P.minimumAngle > 0.0)
   {
-    for (std::size_t t = 0; t < nt; ++t)
+    for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
     {
-      this->poll();
-      if (this->bad(static_cast<int>(t)))
-      {
-        this->Queue.push_back(static_cast<int>(t));
-      }
+      this->Queue.push_back(t);
     }
   }
   std::vector<int> created;
@@ -2149,17 +2231,12 @@ RefinementResult Refiner::run()
 void Refiner::countBad(RefinementResult& result) const
 {
   result.badTrianglesLeft = result.badTrianglesAtCorners = 0;
-  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
   {
-    this->poll();
-    const int ti = static_cast<int>(t);
-    if (this->bad(ti))
-    {
-      ++result.badTrianglesLeft;
-      const int corner = this->smallestCorner(ti);
-      result.badTrianglesAtCorners +=
-        this->constrained(ti, corner) && this->constrained(ti, (corner + 2) % 3);
-    }
+    ++result.badTrianglesLeft;
+    const int corner = this->smallestCorner(t);
+    result.badTrianglesAtCorners +=
+      this->constrained(t, corner) && this->constrained(t, (corner + 2) % 3);
   }
 }
 // Makes the straight segment from vertex v (of triangle t) to the point e a chain of mesh edges
@@ -2812,16 +2889,28 @@ std::size_t Refiner::keptBad() const
 
 double Refiner::minimumAngle() const
 {
-  double worst = -1.0;
-  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
-  {
-    this->poll();
-    if (this->M.region[t] >= 0 && this->Live[t] &&
-      (this->Kept.empty() || !this->inKept(static_cast<int>(t))))
+  // The largest cosine (each block's two halves at once for large meshes).
+  double worst = -1.0, parts[2] = { -1.0, -1.0 };
+  blockwise(
+    this->M.triangles.size(),
+    kSweepBlock,
+    kThreadedTriangles,
+    [&](std::size_t from, std::size_t to, int part)
     {
-      worst = std::max(worst, this->smallestAngleCosine(this->M.triangles[t]));
-    }
-  }
+      for (std::size_t t = from; t < to; ++t)
+      {
+        if (this->M.region[t] >= 0 && this->Live[t] &&
+          (this->Kept.empty() || !this->inKept(static_cast<int>(t))))
+        {
+          parts[part] = std::max(parts[part], this->smallestAngleCosine(this->M.triangles[t]));
+        }
+      }
+    },
+    [&]
+    {
+      worst = std::max({ worst, parts[0], parts[1] });
+      this->report();
+    });
   return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
 }
 void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const

@@ -4,6 +4,7 @@
 #ifndef StrataMeshCore_Parallel_h
 #define StrataMeshCore_Parallel_h
 
+#include <cstddef>
 #include <system_error>
 #include <thread>
 
@@ -33,6 +34,30 @@ void bothHalves(First&& first, Second&& second)
   }
   first();
   second();
+}
+
+/// Runs work(from, to, part) over [0, n) in blocks of at most `block` items, in order: each
+/// block's two halves at once (bothHalves: part 0 on this thread, part 1 perhaps on another)
+/// when n >= threaded, else the whole block as part 0. After each block, after() runs on this
+/// thread: it merges the parts' results in order and may report progress (and throw Aborted);
+/// work() may not throw.
+template<class Work, class After>
+void blockwise(std::size_t n, std::size_t block, std::size_t threaded, Work&& work, After&& after)
+{
+  for (std::size_t begin = 0; begin < n; begin += block)
+  {
+    const std::size_t end = begin + block < n ? begin + block : n;
+    if (n < threaded)
+    {
+      work(begin, end, 0);
+    }
+    else
+    {
+      const std::size_t middle = begin + (end - begin) / 2;
+      bothHalves([&] { work(begin, middle, 0); }, [&] { work(middle, end, 1); });
+    }
+    after();
+  }
 }
 
 } // namespace strata

@@ -41,6 +41,9 @@ namespace strata
 
 namespace
 {
+// Lists from which a one-off pass (rest lengths, the live springs) runs in two halves at once.
+constexpr std::size_t kThreadedTriangles = 65536;
+
 void checkRange(bool ok, const char* name, double value, const char* range)
 {
   if (!ok)
@@ -314,10 +317,20 @@ void ProjectionSprings::restOf(const SpringMesh& mesh, const LargeVector<Vec2>& 
 void ProjectionSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest)
 {
   this->Rest.assign(3 * mesh.triangles.size(), 0.0);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+  const auto some = [&](std::size_t from, std::size_t to)
   {
-    this->restOf(mesh, rest, static_cast<int>(t));
+    for (std::size_t t = from; t < to; ++t)
+    {
+      this->restOf(mesh, rest, static_cast<int>(t));
+    }
+  };
+  const std::size_t n = mesh.triangles.size(), middle = n / 2;
+  if (n < kThreadedTriangles)
+  {
+    some(0, n);
+    return;
   }
+  bothHalves([&] { some(0, middle); }, [&] { some(middle, n); });
 }
 
 void ProjectionSprings::flipped(const SpringMesh& mesh,
@@ -570,37 +583,85 @@ void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
 void SpringSystem::setAwake(const LargeVector<std::uint8_t>& awake)
 {
   this->Awake = awake;
+  this->AwakeList.clear();
   this->LiveEdges.clear();
   this->LiveTriangles.clear();
+  // Only the particles of live springs get forces from here on: every accumulator starts at
+  // zero, and computeForces resets the touched ones only.
+  std::fill(this->F.begin(), this->F.end(), Vec2{});
+  std::fill(this->K.begin(), this->K.end(), 0.0);
+  std::fill(this->F1.begin(), this->F1.end(), Vec2{});
+  std::fill(this->K1.begin(), this->K1.end(), 0.0);
+  this->Touched.clear();
+  this->IsTouched.clear();
   if (awake.empty())
   {
     return;
   }
-  this->LiveEdge.assign(this->Mesh.edges.size(), 0);
-  this->LiveTriangle.assign(this->Mesh.triangles.size(), 0);
-  for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)
+  for (std::size_t i = 0; i < awake.size(); ++i)
   {
-    if (awake[this->Mesh.edges[e][0]] || awake[this->Mesh.edges[e][1]])
+    if (awake[i])
     {
-      this->LiveEdge[e] = 1;
-      this->LiveEdges.push_back(static_cast<int>(e));
+      this->AwakeList.push_back(static_cast<int>(i));
     }
   }
-  for (std::size_t t = 0; t < this->Mesh.triangles.size(); ++t)
+  this->LiveEdge.assign(this->Mesh.edges.size(), 0);
+  this->LiveTriangle.assign(this->Mesh.triangles.size(), 0);
+  this->IsTouched.assign(this->X.size(), 0);
+  // The edges' and the triangles' lists are independent: one thread each (for large meshes),
+  // both in order. The live edges' ends are all the touched particles: a live triangle has an
+  // awake corner, whose edges to the other two corners are live.
+  const auto liveEdges = [&]
   {
-    const std::array<int, 3>& tri = this->Mesh.triangles[t];
-    if (awake[tri[0]] || awake[tri[1]] || awake[tri[2]])
+    for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)
     {
-      this->LiveTriangle[t] = 1;
-      this->LiveTriangles.push_back(static_cast<int>(t));
+      if (awake[this->Mesh.edges[e][0]] || awake[this->Mesh.edges[e][1]])
+      {
+        this->LiveEdge[e] = 1;
+        this->LiveEdges.push_back(static_cast<int>(e));
+        this->touch(this->Mesh.edges[e]);
+      }
     }
+  };
+  const auto liveTriangles = [&]
+  {
+    for (std::size_t t = 0; t < this->Mesh.triangles.size(); ++t)
+    {
+      const std::array<int, 3>& tri = this->Mesh.triangles[t];
+      if (awake[tri[0]] || awake[tri[1]] || awake[tri[2]])
+      {
+        this->LiveTriangle[t] = 1;
+        this->LiveTriangles.push_back(static_cast<int>(t));
+      }
+    }
+  };
+  if (this->Mesh.triangles.size() < kThreadedTriangles)
+  {
+    liveEdges();
+    liveTriangles();
+    return;
+  }
+  bothHalves(liveEdges, liveTriangles);
+}
+
+void SpringSystem::resetAccumulators(Vec2* f, double* k) const
+{
+  // A few particles touched: their entries; many: all of them (sequential writes).
+  if (this->Awake.empty() || 4 * this->Touched.size() > this->X.size())
+  {
+    std::fill(f, f + this->X.size(), Vec2{});
+    std::fill(k, k + this->X.size(), 0.0);
+    return;
+  }
+  for (const int i : this->Touched)
+  {
+    f[i] = Vec2{};
+    k[i] = 0.0;
   }
 }
 
 void SpringSystem::computeForces()
 {
-  std::fill(this->F.begin(), this->F.end(), Vec2{});
-  std::fill(this->K.begin(), this->K.end(), 0.0);
   ParticleState s{ this->X.data(), this->V.data(), this->F.data(), this->K.data() };
   const bool live = !this->Awake.empty();
   s.edgeIds = live ? this->LiveEdges.data() : nullptr;
@@ -609,6 +670,7 @@ void SpringSystem::computeForces()
   s.triangleEnd = live ? this->LiveTriangles.size() : this->Mesh.triangles.size();
   const auto add = [this](const ParticleState& part)
   {
+    this->resetAccumulators(part.f, part.k);
     for (const std::unique_ptr<SpringSet>& set : this->Sets)
     {
       set->addForces(this->Mesh, part, this->Params);
@@ -619,10 +681,13 @@ void SpringSystem::computeForces()
     add(s);
     return;
   }
-  // Two halves of the springs, each into its own accumulators, then summed: the second half
-  // on a second thread.
-  this->F1.assign(this->F.size(), Vec2{});
-  this->K1.assign(this->K.size(), 0.0);
+  // Two halves of the springs, each into its own accumulators (reset by its own thread), then
+  // summed, in two halves too: the second half on a second thread.
+  if (this->F1.size() != this->F.size())
+  {
+    this->F1.assign(this->F.size(), Vec2{});
+    this->K1.assign(this->K.size(), 0.0);
+  }
   ParticleState second = s;
   second.f = this->F1.data();
   second.k = this->K1.data();
@@ -630,11 +695,16 @@ void SpringSystem::computeForces()
   s.edgeEnd = second.edgeBegin = s.edgeEnd / 2;
   s.triangleEnd = second.triangleBegin = s.triangleEnd / 2;
   bothHalves([&] { add(s); }, [&] { add(second); });
-  for (std::size_t i = 0; i < this->F.size(); ++i)
+  const auto sum = [this](std::size_t from, std::size_t to)
   {
-    this->F[i] = this->F[i] + this->F1[i];
-    this->K[i] += this->K1[i];
-  }
+    for (std::size_t i = from; i < to; ++i)
+    {
+      this->F[i] = this->F[i] + this->F1[i];
+      this->K[i] += this->K1[i];
+    }
+  };
+  const std::size_t n = this->F.size();
+  bothHalves([&] { sum(0, n / 2); }, [&] { sum(n / 2, n); });
 }
 
 double SpringSystem::moveParticle(std::size_t i, double dt, MoveGuard* guard)
@@ -663,17 +733,20 @@ double SpringSystem::moveParticle(std::size_t i, double dt, MoveGuard* guard)
 double SpringSystem::integrate(double dt, MoveGuard* guard)
 {
   const std::size_t n = this->X.size();
-  const auto moves = [this](std::size_t i)
-  {
-    return this->Kind[i] == static_cast<std::uint8_t>(ParticleKind::Free) &&
-      (this->Awake.empty() || this->Awake[i]);
-  };
+  const auto free = [this](std::size_t i)
+  { return this->Kind[i] == static_cast<std::uint8_t>(ParticleKind::Free); };
+  // The particles that may move, in index order: all, or the awake ones.
+  const bool all = this->Awake.empty();
+  const std::size_t count = all ? n : this->AwakeList.size();
+  const auto particle = [&](std::size_t j)
+  { return all ? j : static_cast<std::size_t>(this->AwakeList[j]); };
   if (!this->splits())
   {
     double largest = 0.0;
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < count; ++j)
     {
-      if (moves(i))
+      const std::size_t i = particle(j);
+      if (free(i))
       {
         largest = std::max(largest, this->moveParticle(i, dt, guard));
       }
@@ -686,14 +759,20 @@ double SpringSystem::integrate(double dt, MoveGuard* guard)
   {
     this->findSeam();
   }
+  const std::size_t splitAt = all
+    ? this->SplitAt
+    : static_cast<std::size_t>(
+        std::lower_bound(this->AwakeList.begin(), this->AwakeList.end(), this->SplitAt) -
+        this->AwakeList.begin());
   double largest[2] = { 0.0, 0.0 };
   const auto half = [&](int h)
   {
-    const std::size_t begin = h == 0 ? 0 : this->SplitAt, end = h == 0 ? this->SplitAt : n;
+    const std::size_t begin = h == 0 ? 0 : splitAt, end = h == 0 ? splitAt : count;
     double most = 0.0; // (a local: the two threads' results share a cache line)
-    for (std::size_t i = begin; i < end; ++i)
+    for (std::size_t j = begin; j < end; ++j)
     {
-      if (!this->Seam[i] && moves(i))
+      const std::size_t i = particle(j);
+      if (!this->Seam[i] && free(i))
       {
         most = std::max(most, this->moveParticle(i, dt, guard));
       }
@@ -702,9 +781,10 @@ double SpringSystem::integrate(double dt, MoveGuard* guard)
   };
   bothHalves([&] { half(0); }, [&] { half(1); });
   double result = std::max(largest[0], largest[1]);
-  for (std::size_t i = 0; i < n; ++i)
+  for (std::size_t j = 0; j < count; ++j)
   {
-    if (this->Seam[i] && moves(i))
+    const std::size_t i = particle(j);
+    if (this->Seam[i] && free(i))
     {
       result = std::max(result, this->moveParticle(i, dt, guard));
     }
@@ -829,6 +909,10 @@ void SpringSystem::flip(int edge,
       this->LiveEdge[edge] = 1;
       this->LiveEdges.push_back(edge);
     }
+    if (this->LiveEdge[edge])
+    {
+      this->touch(e);
+    }
     for (int t : { t0, t1 })
     {
       const std::array<int, 3>& tri = this->Mesh.triangles[t];
@@ -837,6 +921,10 @@ void SpringSystem::flip(int edge,
       {
         this->LiveTriangle[t] = 1;
         this->LiveTriangles.push_back(t);
+      }
+      if (this->LiveTriangle[t])
+      {
+        this->touch(tri); // (a live triangle's new corner)
       }
     }
   }

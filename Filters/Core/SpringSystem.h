@@ -122,7 +122,9 @@ public:
   /// Adds the forces (and stiffnesses) of the springs in s's edge and triangle ranges to
   /// s.f (and s.k). computeForces may split the springs in two parts, each with its own
   /// ranges and accumulators, and compute them at once on two threads: an implementation
-  /// reads the shared state and writes only s.f and s.k; springs that are neither edge- nor
+  /// reads the shared state and writes only s.f and s.k, and only the entries of the
+  /// particles of the springs in its ranges (edge ends, triangle corners: while some particles
+  /// sleep, computeForces resets those entries only); springs that are neither edge- nor
   /// triangle-indexed are added in part 0.
   virtual void addForces(const SpringMesh& mesh,
     const ParticleState& s,
@@ -305,8 +307,26 @@ private:
   void findSeam();
   void markSeam(const std::array<int, 3>& t);
   LargeVector<std::uint8_t> Awake;
+  LargeVector<int> AwakeList; // the awake particles, increasing (integrate's loops)
   LargeVector<int> LiveEdges, LiveTriangles;
   LargeVector<std::uint8_t> LiveEdge, LiveTriangle;
+  // The particles of the live springs (the only forces computeForces writes while some
+  // particles sleep), so that it resets those entries only.
+  LargeVector<int> Touched;
+  LargeVector<std::uint8_t> IsTouched;
+  template<std::size_t N>
+  void touch(const std::array<int, N>& ends)
+  {
+    for (const int i : ends)
+    {
+      if (!this->IsTouched[i])
+      {
+        this->IsTouched[i] = 1;
+        this->Touched.push_back(i);
+      }
+    }
+  }
+  void resetAccumulators(Vec2* f, double* k) const;
   LargeVector<std::uint8_t> Kind;
   LargeVector<double> Local;
   std::vector<std::unique_ptr<SpringSet>> Sets;
