@@ -1201,3 +1201,73 @@ TEST(DelaunayRefinementTest, MalformedMeshesAndParametersAreRejected)
   m.level.push_back(0);
   EXPECT_NE(message(m, {}).find("more than two triangles"), std::string::npos);
 }
+
+// From 65536 triangles the whole-mesh sweeps (neighbours, the Delaunay flips' first test, the
+// bad triangles, the smallest angle) run in blocks, each block's halves on two threads: the
+// mesh still ends constrained Delaunay, a malformed mesh names the first point at fault, and
+// an abort between blocks is honoured (no thread left running).
+TEST(DelaunayRefinementTest, LargeMeshesAreSweptOnTwoThreadsWithTheSerialOutcome)
+{
+  RegionMesh m = bands({ 0.0, 1.0, 2.0, 3.0 }, 12000.0, 1.0);
+  ASSERT_GE(m.triangles.size(), 65536u);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (Vec2& p : m.points)
+  {
+    if (p.y > 0.0 && p.y < 3.0 && p.y != 1.0 && p.x > 0.0 && p.x < 12000.0)
+    {
+      p = p + Vec2{ jitter(rng), jitter(rng) };
+    }
+  }
+  const std::set<std::pair<int, int>> boundary = boundaryEdges(m);
+  RefinementParams p;
+  p.minimumAngle = 0.0;
+  RegionMesh flipped = m;
+  const RefinementResult r = strata::refineDelaunay(flipped, middle, p);
+  expectValid(flipped);
+  EXPECT_GT(r.delaunayFlips, 0u);
+  EXPECT_EQ(boundaryEdges(flipped), boundary);
+  std::size_t notDelaunay = 0;
+  const auto edges = directedEdges(flipped);
+  for (const auto& [e, t] : edges)
+  {
+    const auto back = edges.find({ e.second, e.first });
+    if (back == edges.end() || flipped.region[back->second] != flipped.region[t])
+    {
+      continue;
+    }
+    const auto& tri = flipped.triangles[t];
+    const auto& other = flipped.triangles[back->second];
+    const int d = other[0] + other[1] + other[2] - e.first - e.second;
+    const Vec2 a = flipped.points[tri[0]], b = flipped.points[tri[1]], c = flipped.points[tri[2]];
+    const Vec2 ad = a - flipped.points[d], bd = b - flipped.points[d], cd = c - flipped.points[d];
+    const double det = strata::norm2(ad) * strata::cross(bd, cd) +
+      strata::norm2(bd) * strata::cross(cd, ad) + strata::norm2(cd) * strata::cross(ad, bd);
+    notDelaunay += det > 1e-9 * std::pow(strata::norm2(b - a), 2);
+  }
+  EXPECT_EQ(notDelaunay, 0u);
+
+  // A triangle twice, near the end (the second half): the message names its lowest corner.
+  RegionMesh twice = m;
+  const std::array<int, 3> copy = twice.triangles[twice.triangles.size() - 5];
+  twice.triangles.push_back(copy);
+  twice.region.push_back(twice.region.back());
+  twice.level.push_back(0);
+  const int lowest = std::min({ copy[0], copy[1], copy[2] });
+  try
+  {
+    strata::refineDelaunay(twice, middle, p);
+    ADD_FAILURE() << "a triangle twice was accepted";
+  }
+  catch (const strata::ParameterError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("the edge from point " + std::to_string(lowest) + " "),
+      std::string::npos)
+      << e.what();
+  }
+
+  int calls = 0;
+  const strata::ProgressReporter progress([&](double, const char*) { return ++calls < 2; });
+  RegionMesh aborted = m;
+  EXPECT_THROW(strata::refineDelaunay(aborted, middle, {}, progress), strata::Aborted);
+}

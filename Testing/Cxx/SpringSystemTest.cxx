@@ -629,3 +629,61 @@ TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
     EXPECT_GT(spread, 15.0) << splitSprings; // it did relax
   }
 }
+
+TEST(SpringSystemTest, SleepersAwayFromTheAwakeHaveNoForceAndTheAwakeHaveEverySpring)
+{
+  // While some particles sleep, only the springs touching an awake particle are evaluated and
+  // only their particles' accumulators are reset: an awake particle's force and stiffness are
+  // those of all its springs (bit for bit), a particle no live spring touches has none, also
+  // after a wider awake set gave it some, and an awake set that shrinks step after step keeps
+  // it so.
+  const Lattice l = lattice(12);
+  strata::LargeVector<Vec2> x, v;
+  shaken(l, x, v);
+  strata::SpringSystem sleeping = makeSystem(l, x);
+  sleeping.velocities() = v;
+  for (const int corner : { 0, 1, 2 })
+  {
+    SCOPED_TRACE(corner);
+    // Awake: the particles within `reach` of (0, 0), fewer each time.
+    const double reach = 9.0 - 3.0 * corner;
+    strata::LargeVector<std::uint8_t> awake(x.size(), 0);
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      awake[i] = strata::norm(l.points[i]) < reach;
+    }
+    sleeping.setAwake(awake);
+    sleeping.step(0.1);
+    sleeping.computeForces();
+    strata::SpringSystem all = makeSystem(l, sleeping.positions());
+    all.velocities() = sleeping.velocities();
+    all.computeForces();
+    std::size_t awakeDiffer = 0, touched = 0, untouched = 0, untouchedWithForce = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      if (awake[i])
+      {
+        const double k = sleeping.stiffness(i), kAll = all.stiffness(i);
+        awakeDiffer += std::memcmp(&sleeping.forces()[i], &all.forces()[i], sizeof(Vec2)) != 0 ||
+          std::memcmp(&k, &kAll, sizeof(double)) != 0;
+        continue;
+      }
+      // A sleeper is touched when a live spring reaches it: it shares a triangle with an
+      // awake particle.
+      bool near = false;
+      for (const auto& t : l.triangles)
+      {
+        const bool has =
+          t[0] == static_cast<int>(i) || t[1] == static_cast<int>(i) || t[2] == static_cast<int>(i);
+        near = near || (has && (awake[t[0]] || awake[t[1]] || awake[t[2]]));
+      }
+      ++(near ? touched : untouched);
+      untouchedWithForce +=
+        !near && (sleeping.forces()[i] != Vec2{} || sleeping.stiffness(static_cast<int>(i)) != 0.0);
+    }
+    EXPECT_EQ(awakeDiffer, 0u);
+    EXPECT_GT(touched, 0u);
+    EXPECT_GT(untouched, 0u);
+    EXPECT_EQ(untouchedWithForce, 0u);
+  }
+}
