@@ -1016,31 +1016,41 @@ void Compressor::buildSubMesh()
   }
   // Neighbours across each edge k (from corner k to corner k + 1): a local triangle, -1 for
   // the domain border, -2 - (grid triangle id) for a triangle outside the sub-mesh.
+  // (Each triangle writes its own slots: blocks of triangles, each block's halves at once.)
   this->Nbr.assign(nl, { -1, -1, -1 });
-  for (std::size_t t = 0; t < nl; ++t)
-  {
-    this->poll(t);
-    const int gt = this->TriGlobal[t];
-    const std::array<int, 3>& g = this->Grid.triangles[gt];
-    for (int k = 0; k < 3; ++k)
+  blockwise(
+    nl,
+    kBlock,
+    kThreadedItems,
+    [&](std::size_t from, std::size_t to, int)
     {
-      const int a = g[k], b = g[(k + 1) % 3];
-      int across = -1;
-      for (int s = this->GStarStart[b]; s < this->GStarStart[b + 1] && across < 0; ++s)
+      for (std::size_t t = from; t < to; ++t)
       {
-        const int u = this->GStarItems[s];
-        const std::array<int, 3>& h = this->Grid.triangles[u];
-        const int j = h[0] == b ? 0 : (h[1] == b ? 1 : 2);
-        if (u != gt && h[(j + 1) % 3] == a)
+        const int gt = this->TriGlobal[t];
+        const std::array<int, 3>& g = this->Grid.triangles[gt];
+        for (int k = 0; k < 3; ++k)
         {
-          across = u;
+          const int a = g[k], b = g[(k + 1) % 3];
+          int across = -1;
+          for (int s = this->GStarStart[b]; s < this->GStarStart[b + 1] && across < 0; ++s)
+          {
+            const int u = this->GStarItems[s];
+            const std::array<int, 3>& h = this->Grid.triangles[u];
+            const int j = h[0] == b ? 0 : (h[1] == b ? 1 : 2);
+            if (u != gt && h[(j + 1) % 3] == a)
+            {
+              across = u;
+            }
+          }
+          this->Nbr[t][k] =
+            across < 0 ? -1 : (localTri[across] >= 0 ? localTri[across] : -2 - across);
         }
       }
-      this->Nbr[t][k] = across < 0 ? -1 : (localTri[across] >= 0 ? localTri[across] : -2 - across);
-    }
-  }
+    },
+    [&] { this->Progress.report(this->At, this->Stage); });
   // Spring edges (each edge once; both triangles of an edge share its id).
   LargeVector<std::array<int, 2>> edges;
+  edges.reserve(3 * nl / 2 + 3);
   this->TriEdge.assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {

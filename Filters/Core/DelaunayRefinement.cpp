@@ -1235,6 +1235,59 @@ std::size_t Refiner::recoverCurves()
     todo.swap(next);
   }
   const std::size_t before = this->Inserted;
+  const auto probed = [&](int t, const std::array<int, 3>& tri)
+  {
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    const double shortest = std::sqrt(std::min({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+    return this->Live[t] && shortest >= this->P.minimumEdgeLength;
+  };
+  // The probes of the triangles as they are now, asked all at once when the caller can answer
+  // them so (points never move here: a triangle with the same corners when its turn comes has
+  // the same answer; one an insertion changed is asked again).
+  struct Probe
+  {
+    std::array<int, 3> tri;
+    Vec2 at;
+    char found;
+  };
+  std::vector<Probe> probes;
+  std::vector<int> probeOf;
+  if (this->P.curvePoints)
+  {
+    const std::size_t nt = this->M.triangles.size();
+    probeOf.assign(nt, -1);
+    std::size_t wanted = 0;
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      wanted += !far[t];
+    }
+    probes.reserve(wanted);
+    std::vector<Vec2> corners;
+    corners.reserve(3 * wanted);
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      const auto& tri = this->M.triangles[t];
+      if (!far[t] && probed(static_cast<int>(t), tri))
+      {
+        probeOf[t] = static_cast<int>(probes.size());
+        probes.push_back({ tri, Vec2{}, 0 });
+        corners.insert(corners.end(), { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) });
+      }
+    }
+    std::vector<char> found(probes.size(), 0);
+    std::vector<Vec2> at(probes.size());
+    for (std::size_t begin = 0; begin < probes.size(); begin += kSweepBlock)
+    {
+      this->report();
+      const std::size_t n = std::min(kSweepBlock, probes.size() - begin);
+      this->P.curvePoints(corners.data() + 3 * begin, n, found.data() + begin, at.data() + begin);
+    }
+    for (std::size_t i = 0; i < probes.size(); ++i)
+    {
+      probes[i].found = found[i];
+      probes[i].at = at[i];
+    }
+  }
   std::vector<int> created;
   while (!queue.empty() && this->Inserted < this->Budget)
   {
@@ -1247,10 +1300,16 @@ std::size_t Refiner::recoverCurves()
     }
     const auto tri = this->M.triangles[t];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-    const double shortest = std::sqrt(std::min({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+    if (!probed(t, tri))
+    {
+      continue;
+    }
     Vec2 w;
-    if (!this->Live[t] || shortest < this->P.minimumEdgeLength || !this->P.curvePoint(a, b, c, w) ||
-      !(orient2d(a, b, w) > 0.0 && orient2d(b, c, w) > 0.0 && orient2d(c, a, w) > 0.0))
+    const int known = static_cast<std::size_t>(t) < probeOf.size() ? probeOf[t] : -1;
+    const bool found = known >= 0 && probes[known].tri == tri
+      ? (w = probes[known].at, probes[known].found != 0)
+      : this->P.curvePoint(a, b, c, w);
+    if (!found || !(orient2d(a, b, w) > 0.0 && orient2d(b, c, w) > 0.0 && orient2d(c, a, w) > 0.0))
     {
       continue;
     }

@@ -82,6 +82,11 @@ struct RefinementParams
   /// regionAt(p[i]) when curveDistance(p[i], within[i]) < within[i], else kNoCurveNear. Empty: the
   /// refinement asks curveDistance and regionAt one point at a time.
   std::function<void(const Vec2* p, const double* within, std::size_t n, int* region)> regionsNear;
+  /// Optional, with the curve recovery: curvePoint for many triangles at once (the recovery's
+  /// probes ask about most triangles near the curves), so that the caller may answer on two
+  /// threads. For each i < n, with the corners corners[3i], corners[3i + 1], corners[3i + 2]:
+  /// found[i] = curvePoint(corners..., at[i]). Empty: one triangle at a time.
+  std::function<void(const Vec2* corners, std::size_t n, char* found, Vec2* at)> curvePoints;
   /// Optional, with the curve recovery: whether the model has a corner of region `region`
   /// sharper than about minimumAngle within `radius` of p. Where it has none, a sharp corner
   /// of a region's triangle between two triangles of one other region (or the outer border)

@@ -782,7 +782,8 @@ void refineCompressed(CompressionResult& compressed,
     std::sort(corners.begin(),
       corners.end(),
       [](const Corner& p, const Corner& q) { return p.x.x < q.x.x; });
-    rp.curvePoint = [&, corners](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+    // (With the queries of q: one CurveQuery per thread.)
+    const auto curvePointWith = [&, corners](CurveQuery& q, Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {
       // A model corner inside (see below) first; else, of the curve points nearest the
       // centroid and nearest the midpoints between it and the corners, the one farthest inside, if
@@ -804,7 +805,7 @@ void refineCompressed(CompressionResult& compressed,
       const auto reach = [&](Vec2 p) {
         return std::sqrt(std::max({ norm2(a - p), norm2(b - p), norm2(c - p) }));
       };
-      if (within(g, reach(g), nullptr).chain < 0)
+      if (q.within(g, reach(g), nullptr).chain < 0)
       {
         return false; // no curve comes into the triangle
       }
@@ -833,7 +834,7 @@ void refineCompressed(CompressionResult& compressed,
         }
         const BoundaryRails::Chain& chain = rails.chain(it->chain);
         const Vec2 probe = kLayerProbe * margin * it->wedge;
-        const int in = regionOf(it->x + probe), out = regionOf(it->x - probe);
+        const int in = q.regionOf(it->x + probe), out = q.regionOf(it->x - probe);
         if ((in == chain.left && out == chain.right) || (in == chain.right && out == chain.left))
         {
           at = it->x;
@@ -845,7 +846,7 @@ void refineCompressed(CompressionResult& compressed,
       int n = 0;
       for (Vec2 probe : { g, 0.5 * (g + a), 0.5 * (g + b), 0.5 * (g + c) })
       {
-        const BoundaryRails::Location l = within(probe, reach(probe), nullptr);
+        const BoundaryRails::Location l = q.within(probe, reach(probe), nullptr);
         if (l.chain < 0)
         {
           continue; // its nearest curve point lies outside the triangle
@@ -868,7 +869,7 @@ void refineCompressed(CompressionResult& compressed,
         const Vec2 x = rails.position(l);
         const BoundaryRails::Chain& chain = rails.chain(l.chain);
         const Vec2 left = kLayerProbe * margin * Vec2{ -rails.tangent(l).y, rails.tangent(l).x };
-        if (regionOf(x + left) == chain.left && regionOf(x - left) == chain.right)
+        if (q.regionOf(x + left) == chain.left && q.regionOf(x - left) == chain.right)
         {
           at = x;
           return true;
@@ -876,6 +877,25 @@ void refineCompressed(CompressionResult& compressed,
         // else a layer thinner than that beside it: left to its neighbours
       }
       return false;
+    };
+    rp.curvePoint = [&query, curvePointWith](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+    { return curvePointWith(query, a, b, c, at); };
+    // Many triangles at once: two threads, each with its own queries, taking every other run
+    // of triangles (near and far ones, whose costs differ, are shared alike).
+    rp.curvePoints = [&query, &query2, curvePointWith](
+                       const Vec2* p, std::size_t n, char* found, Vec2* at)
+    {
+      const auto some = [&](CurveQuery& q, std::size_t first)
+      {
+        for (std::size_t begin = first * CurveQuery::kRun; begin < n; begin += 2 * CurveQuery::kRun)
+        {
+          for (std::size_t i = begin; i < std::min(n, begin + CurveQuery::kRun); ++i)
+          {
+            found[i] = curvePointWith(q, p[3 * i], p[3 * i + 1], p[3 * i + 2], at[i]);
+          }
+        }
+      };
+      bothHalves([&] { some(query, 0); }, [&] { some(query2, 1); });
     };
   }
   RegionMesh rm{ std::move(compressed.points),

@@ -272,7 +272,26 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
     }
     return false;
   };
+  // The probes asked all at once (curvePoints, as the mesher does on two threads) give the
+  // same mesh as one at a time.
+  RegionMesh batched = m;
+  RefinementParams q = p;
+  std::size_t asked = 0;
+  q.curvePoints = [&](const Vec2* corners, std::size_t n, char* found, Vec2* at)
+  {
+    asked += n;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      found[i] = p.curvePoint(corners[3 * i], corners[3 * i + 1], corners[3 * i + 2], at[i]);
+    }
+  };
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  const RefinementResult rb = strata::refineDelaunay(batched, middle, q);
+  EXPECT_GT(asked, 0u);
+  EXPECT_EQ(rb.curveVertices, r.curveVertices);
+  EXPECT_EQ(batched.triangles, m.triangles);
+  EXPECT_EQ(batched.points, m.points);
+  EXPECT_EQ(batched.region, m.region);
   expectValid(m);
   EXPECT_GT(r.curveVertices, 0u);
   const std::map<int, double> a = regionAreas(m);
