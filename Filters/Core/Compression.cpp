@@ -1960,7 +1960,7 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
       }
     }
   }
-  this->Sys->setAwake(awake);
+  this->Sys->setAwake(std::move(awake));
   windowStart = x;
   return moving;
 }

@@ -580,37 +580,72 @@ void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
   this->Sets.push_back(std::move(set));
 }
 
-void SpringSystem::setAwake(const LargeVector<std::uint8_t>& awake)
+void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
 {
-  this->Awake = awake;
+  // Back to no live spring: what the last awake set made nonzero is reset (every accumulator
+  // and flag when all springs may have written: before the first set, or with none).
+  const bool sparse = !this->Awake.empty() && !this->IsTouched.empty();
+  const auto resetTouched = [this](LargeVector<Vec2>& f, LargeVector<double>& k)
+  {
+    if (f.size() != this->X.size())
+    {
+      return;
+    }
+    for (const int i : this->Touched)
+    {
+      f[i] = Vec2{};
+      k[i] = 0.0;
+    }
+  };
+  if (sparse && 4 * this->Touched.size() < this->X.size())
+  {
+    resetTouched(this->F, this->K);
+    resetTouched(this->F1, this->K1);
+    for (const int i : this->Touched)
+    {
+      this->IsTouched[i] = 0;
+    }
+    for (const int e : this->LiveEdges)
+    {
+      this->LiveEdge[e] = 0;
+    }
+    for (const int t : this->LiveTriangles)
+    {
+      this->LiveTriangle[t] = 0;
+    }
+  }
+  else
+  {
+    std::fill(this->F.begin(), this->F.end(), Vec2{});
+    std::fill(this->K.begin(), this->K.end(), 0.0);
+    std::fill(this->F1.begin(), this->F1.end(), Vec2{});
+    std::fill(this->K1.begin(), this->K1.end(), 0.0);
+    this->IsTouched.assign(mask.empty() ? 0 : this->X.size(), 0);
+    this->LiveEdge.assign(mask.empty() ? 0 : this->Mesh.edges.size(), 0);
+    this->LiveTriangle.assign(mask.empty() ? 0 : this->Mesh.triangles.size(), 0);
+  }
+  this->Awake = std::move(mask);
   this->AwakeList.clear();
   this->LiveEdges.clear();
   this->LiveTriangles.clear();
-  // Only the particles of live springs get forces from here on: every accumulator starts at
-  // zero, and computeForces resets the touched ones only.
-  std::fill(this->F.begin(), this->F.end(), Vec2{});
-  std::fill(this->K.begin(), this->K.end(), 0.0);
-  std::fill(this->F1.begin(), this->F1.end(), Vec2{});
-  std::fill(this->K1.begin(), this->K1.end(), 0.0);
   this->Touched.clear();
-  this->IsTouched.clear();
-  if (awake.empty())
+  if (this->Awake.empty())
   {
+    this->IsTouched.clear();
     return;
   }
-  for (std::size_t i = 0; i < awake.size(); ++i)
+  for (std::size_t i = 0; i < this->Awake.size(); ++i)
   {
-    if (awake[i])
+    if (this->Awake[i])
     {
       this->AwakeList.push_back(static_cast<int>(i));
     }
   }
-  this->LiveEdge.assign(this->Mesh.edges.size(), 0);
-  this->LiveTriangle.assign(this->Mesh.triangles.size(), 0);
-  this->IsTouched.assign(this->X.size(), 0);
-  // The edges' and the triangles' lists are independent: one thread each (for large meshes),
-  // both in order. The live edges' ends are all the touched particles: a live triangle has an
-  // awake corner, whose edges to the other two corners are live.
+  // Only the particles of live springs get forces from here on, and computeForces resets
+  // those entries only. The edges' and the triangles' lists are independent: one thread each
+  // (for large meshes), both in order. The live edges' ends are all the touched particles: a
+  // live triangle has an awake corner, whose edges to the other two corners are live.
+  const LargeVector<std::uint8_t>& awake = this->Awake;
   const auto liveEdges = [&]
   {
     for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)

@@ -262,7 +262,7 @@ public:
   /// Sleeping: only awake particles are integrated, and only springs touching an awake
   /// particle are evaluated (the forces on awake particles are then complete; those on
   /// sleeping ones are not computed). An empty mask wakes every particle.
-  void setAwake(const LargeVector<std::uint8_t>& awake);
+  void setAwake(LargeVector<std::uint8_t> awake);
   bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
 
   /// Phase 1: resets the force accumulators and adds the contribution of every spring.
