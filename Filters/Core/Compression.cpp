@@ -1626,13 +1626,25 @@ std::size_t Compressor::pushNewCrossings()
     this->buildCurveCells(); // (before the threads, which read it)
   }
   std::vector<int> region(nv, -3), faceRegion(faces.size(), -3);
-  if (this->WaveVertexAt.size() != nv || this->WaveFaceAt.size() != this->Tri.size())
+  if (this->WaveVertexAt.size() != nv)
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     this->WaveVertexAt.assign(nv, Vec2{ nan, nan });
     this->WaveVertexRegion.assign(nv, -3);
-    this->WaveFaceAt.assign(this->Tri.size(), Vec2{ nan, nan });
-    this->WaveFaceRegion.assign(this->Tri.size(), -3);
+  }
+  // The last call's answer for each face asked now, if it asked about it (both lists are by
+  // increasing face id).
+  std::vector<int> faceBefore(faces.size(), -1);
+  for (std::size_t k = 0, j = 0; k < faces.size() && j < this->WaveFaces.size(); ++k)
+  {
+    while (j < this->WaveFaces.size() && this->WaveFaces[j].face < faces[k][0])
+    {
+      ++j;
+    }
+    if (j < this->WaveFaces.size() && this->WaveFaces[j].face == faces[k][0])
+    {
+      faceBefore[k] = static_cast<int>(j);
+    }
   }
   // (Both answers depend on the position only, for a vertex off the curves; each vertex and
   // face is asked by one thread.)
@@ -1660,15 +1672,13 @@ std::size_t Compressor::pushNewCrossings()
       }
       else
       {
-        const int t = faces[i - asked.size()][0];
-        const std::array<int, 3>& tri = this->Tri[t];
+        const std::size_t k = i - asked.size();
+        const std::array<int, 3>& tri = this->Tri[faces[k][0]];
         const Vec2 centre = (1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]);
-        if (!(centre == this->WaveFaceAt[t]))
-        {
-          this->WaveFaceAt[t] = centre;
-          this->WaveFaceRegion[t] = this->Field.region(centre, field);
-        }
-        faceRegion[i - asked.size()] = this->WaveFaceRegion[t];
+        const int before = faceBefore[k];
+        faceRegion[k] = before >= 0 && centre == this->WaveFaces[before].at
+          ? this->WaveFaces[before].region
+          : this->Field.region(centre, field);
       }
     }
   };
@@ -1682,6 +1692,13 @@ std::size_t Compressor::pushNewCrossings()
     const std::size_t middle = begin + (end - begin) / 2;
     bothHalves([&] { query(begin, middle, this->RailScratch, this->FieldScratch); },
       [&] { query(middle, end, rail2, field2); });
+  }
+  this->WaveFaces.clear();
+  for (std::size_t k = 0; k < faces.size(); ++k)
+  {
+    const std::array<int, 3>& tri = this->Tri[faces[k][0]];
+    this->WaveFaces.push_back(
+      { faces[k][0], faceRegion[k], (1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]) });
   }
   const auto regionOf = [&](int v)
   {

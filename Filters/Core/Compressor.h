@@ -302,10 +302,17 @@ private:
   LargeVector<std::uint8_t> Candidate, Push;
   LargeVector<double> Distance; // boundary distance (NaN: not computed)
   // pushNewCrossings' answers of its last call: the region of a vertex off the curves at the
-  // position it had (NaN: none), and of a face's barycentre; a wave asks again only where a
-  // position moved (most particles sleep by then).
-  LargeVector<Vec2> WaveVertexAt, WaveFaceAt;
-  LargeVector<int> WaveVertexRegion, WaveFaceRegion;
+  // position it had (NaN: none), and of the barycentres of the faces it asked about (by face
+  // id, increasing); a wave asks again only where a position moved.
+  LargeVector<Vec2> WaveVertexAt;
+  LargeVector<int> WaveVertexRegion;
+  struct FaceAnswer
+  {
+    int face;
+    int region;
+    Vec2 at;
+  };
+  std::vector<FaceAnswer> WaveFaces;
   LargeVector<int> JunctionOf;     // junction node a vertex was placed on, or -1
   LargeVector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
 

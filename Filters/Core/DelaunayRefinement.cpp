@@ -1241,53 +1241,59 @@ std::size_t Refiner::recoverCurves()
     const double shortest = std::sqrt(std::min({ norm2(b - a), norm2(c - b), norm2(a - c) }));
     return this->Live[t] && shortest >= this->P.minimumEdgeLength;
   };
-  // The probes of the triangles as they are now, asked all at once when the caller can answer
-  // them so (points never move here: a triangle with the same corners when its turn comes has
-  // the same answer; one an insertion changed is asked again).
-  struct Probe
-  {
-    std::array<int, 3> tri;
-    Vec2 at;
-    char found;
-  };
-  std::vector<Probe> probes;
-  std::vector<int> probeOf;
+  // The probes of the triangles as they are now, asked all at once (in blocks) when the
+  // caller can answer them so: a triangle's answer holds while no insertion changed it (points
+  // never move here; an insertion reports every triangle it changes).
+  std::vector<int> probeT; // the triangles probed in advance, increasing
+  std::vector<char> probeFound, changed;
+  std::vector<Vec2> probeAt;
   if (this->P.curvePoints)
   {
     const std::size_t nt = this->M.triangles.size();
-    probeOf.assign(nt, -1);
-    std::size_t wanted = 0;
     for (std::size_t t = 0; t < nt; ++t)
     {
-      wanted += !far[t];
-    }
-    probes.reserve(wanted);
-    std::vector<Vec2> corners;
-    corners.reserve(3 * wanted);
-    for (std::size_t t = 0; t < nt; ++t)
-    {
-      const auto& tri = this->M.triangles[t];
-      if (!far[t] && probed(static_cast<int>(t), tri))
+      if (!far[t] && probed(static_cast<int>(t), this->M.triangles[t]))
       {
-        probeOf[t] = static_cast<int>(probes.size());
-        probes.push_back({ tri, Vec2{}, 0 });
-        corners.insert(corners.end(), { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) });
+        probeT.push_back(static_cast<int>(t));
       }
     }
-    std::vector<char> found(probes.size(), 0);
-    std::vector<Vec2> at(probes.size());
-    for (std::size_t begin = 0; begin < probes.size(); begin += kSweepBlock)
+    probeFound.assign(probeT.size(), 0);
+    probeAt.resize(probeT.size());
+    std::vector<Vec2> corners;
+    for (std::size_t begin = 0; begin < probeT.size(); begin += kSweepBlock)
     {
       this->report();
-      const std::size_t n = std::min(kSweepBlock, probes.size() - begin);
-      this->P.curvePoints(corners.data() + 3 * begin, n, found.data() + begin, at.data() + begin);
+      const std::size_t n = std::min(kSweepBlock, probeT.size() - begin);
+      corners.clear();
+      for (std::size_t i = begin; i < begin + n; ++i)
+      {
+        const auto& tri = this->M.triangles[probeT[i]];
+        corners.insert(corners.end(), { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) });
+      }
+      this->P.curvePoints(corners.data(), n, probeFound.data() + begin, probeAt.data() + begin);
     }
-    for (std::size_t i = 0; i < probes.size(); ++i)
-    {
-      probes[i].found = found[i];
-      probes[i].at = at[i];
-    }
+    changed.assign(nt, 0);
   }
+  // The answer asked in advance for t, if any and still valid (lookups mostly in increasing
+  // order: the triangles of the first queue, unchanged, come in order).
+  std::size_t cursor = 0;
+  const auto askedBefore = [&](int t) -> int
+  {
+    if (static_cast<std::size_t>(t) >= changed.size() || changed[t])
+    {
+      return -1;
+    }
+    if (cursor > 0 && probeT[cursor - 1] >= t)
+    {
+      cursor = static_cast<std::size_t>(
+        std::lower_bound(probeT.begin(), probeT.end(), t) - probeT.begin());
+    }
+    while (cursor < probeT.size() && probeT[cursor] < t)
+    {
+      ++cursor;
+    }
+    return cursor < probeT.size() && probeT[cursor] == t ? static_cast<int>(cursor++) : -1;
+  };
   std::vector<int> created;
   while (!queue.empty() && this->Inserted < this->Budget)
   {
@@ -1305,10 +1311,9 @@ std::size_t Refiner::recoverCurves()
       continue;
     }
     Vec2 w;
-    const int known = static_cast<std::size_t>(t) < probeOf.size() ? probeOf[t] : -1;
-    const bool found = known >= 0 && probes[known].tri == tri
-      ? (w = probes[known].at, probes[known].found != 0)
-      : this->P.curvePoint(a, b, c, w);
+    const int known = askedBefore(t);
+    const bool found =
+      known >= 0 ? (w = probeAt[known], probeFound[known] != 0) : this->P.curvePoint(a, b, c, w);
     if (!found || !(orient2d(a, b, w) > 0.0 && orient2d(b, c, w) > 0.0 && orient2d(c, a, w) > 0.0))
     {
       continue;
@@ -1320,6 +1325,10 @@ std::size_t Refiner::recoverCurves()
       if (static_cast<std::size_t>(u) < far.size())
       {
         far[u] = 0; // changed
+      }
+      if (static_cast<std::size_t>(u) < changed.size())
+      {
+        changed[u] = 1;
       }
       this->retag(u);
       queue.push_back(u);
