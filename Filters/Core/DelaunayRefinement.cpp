@@ -476,12 +476,12 @@ private:
     this->Live.push_back(1);
     return static_cast<int>(this->M.triangles.size()) - 1;
   }
-  // The triangles t, increasing, for which pred(t) holds; each block's two halves at once for
-  // large meshes (pred reads only), with a progress report after each block.
-  template<class Pred>
-  std::vector<int> selectTriangles(Pred&& pred) const
+  // visit(t, part) for every triangle, in blocks of kSweepBlock, each block's two halves at
+  // once (parts 0 and 1) for large meshes (visit reads only, or writes its own part's data);
+  // after each block merge() and a progress report, on this thread.
+  template<class Visit, class Merge>
+  void sweepTriangles(Visit&& visit, Merge&& merge) const
   {
-    std::vector<int> list, parts[2];
     blockwise(
       this->M.triangles.size(),
       kSweepBlock,
@@ -490,10 +490,26 @@ private:
       {
         for (std::size_t t = from; t < to; ++t)
         {
-          if (pred(static_cast<int>(t)))
-          {
-            parts[part].push_back(static_cast<int>(t));
-          }
+          visit(static_cast<int>(t), part);
+        }
+      },
+      [&]
+      {
+        merge();
+        this->report();
+      });
+  }
+  // The triangles t, increasing, for which pred(t) holds (sweepTriangles).
+  template<class Pred>
+  std::vector<int> selectTriangles(Pred&& pred) const
+  {
+    std::vector<int> list, parts[2];
+    this->sweepTriangles(
+      [&](int t, int part)
+      {
+        if (pred(t))
+        {
+          parts[part].push_back(t);
         }
       },
       [&]
@@ -503,7 +519,6 @@ private:
           list.insert(list.end(), part.begin(), part.end());
           part.clear();
         }
-        this->report();
       });
     return list;
   }
@@ -1150,26 +1165,18 @@ void Refiner::prepare()
 // Lawson's flips until every unconstrained edge is Delaunay.
 void Refiner::flipToDelaunay()
 {
-  const std::size_t nt = this->M.triangles.size();
   // Every interior edge once, in order, would be stacked; only those that need a flip now are
   // (each block's two halves tested at once for large meshes): the others are Delaunay, and
   // one that a flip changes is stacked by that flip, so the flips are those of the full stack.
   LargeVector<std::array<int, 2>> stack, parts[2];
-  blockwise(
-    nt,
-    kSweepBlock,
-    kThreadedTriangles,
-    [&](std::size_t from, std::size_t to, int part)
+  this->sweepTriangles(
+    [&](int t, int part)
     {
-      for (std::size_t t = from; t < to; ++t)
+      for (int k = 0; k < 3; ++k)
       {
-        for (int k = 0; k < 3; ++k)
+        if (this->Nbr[t][k] > t && this->needsFlip(t, k))
         {
-          if (static_cast<std::size_t>(this->Nbr[t][k]) > t &&
-            this->needsFlip(static_cast<int>(t), k))
-          {
-            parts[part].push_back({ static_cast<int>(t), k });
-          }
+          parts[part].push_back({ t, k });
         }
       }
     },
@@ -1180,7 +1187,6 @@ void Refiner::flipToDelaunay()
         stack.insert(stack.end(), list.begin(), list.end());
         list.clear();
       }
-      this->report();
     });
   while (!stack.empty())
   {
@@ -2957,27 +2963,18 @@ std::size_t Refiner::keptBad() const
 
 double Refiner::minimumAngle() const
 {
-  // The largest cosine (each block's two halves at once for large meshes).
+  // The largest cosine (sweepTriangles).
   double worst = -1.0, parts[2] = { -1.0, -1.0 };
-  blockwise(
-    this->M.triangles.size(),
-    kSweepBlock,
-    kThreadedTriangles,
-    [&](std::size_t from, std::size_t to, int part)
+  this->sweepTriangles(
+    [&](int t, int part)
     {
-      for (std::size_t t = from; t < to; ++t)
+      if (this->M.region[t] >= 0 && this->Live[t] && (this->Kept.empty() || !this->inKept(t)))
       {
-        if (this->M.region[t] >= 0 && this->Live[t] &&
-          (this->Kept.empty() || !this->inKept(static_cast<int>(t))))
-        {
-          parts[part] = std::max(parts[part], this->smallestAngleCosine(this->M.triangles[t]));
-        }
+        parts[part] = std::max(parts[part], this->smallestAngleCosine(this->M.triangles[t]));
       }
     },
-    [&]
-    {
+    [&] {
       worst = std::max({ worst, parts[0], parts[1] });
-      this->report();
     });
   return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
 }
