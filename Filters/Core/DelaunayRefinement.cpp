@@ -172,6 +172,10 @@
 // a triangle; outside the curve recovery, 2c and 7 no triangle changes region, and the
 // regions' areas change only where a boundary edge is split onto its curve (3, 2b', 7) or a
 // boundary vertex slides or is collapsed (6).
+// Two threads: the sweeps over the whole mesh (the neighbours, the first test of 2's flips,
+// which then stack only the edges that need one, the bad triangles of 3, the smallest angle)
+// run in blocks, each block's halves at once, and the probes of 2b may be asked in blocks
+// (RefinementParams::curvePoints); every result is the serial one.
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
