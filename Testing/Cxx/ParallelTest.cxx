@@ -1,0 +1,111 @@
+// Core tests: the two-thread helpers of Parallel.h.
+#include "Parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+namespace
+{
+
+struct Stop : std::runtime_error
+{
+  Stop()
+    : std::runtime_error("stop")
+  {
+  }
+};
+
+// Runs blockwise over n items and returns what it saw: every item's part, the items merged in
+// order after each block, the blocks' ends.
+struct Seen
+{
+  std::vector<int> part;         // per item, the part that visited it (-1: none, -2: twice)
+  std::vector<int> merged;       // the items, in the order the merges appended them
+  std::vector<std::size_t> ends; // per block, how many items were merged after it
+};
+
+Seen run(std::size_t n, std::size_t block, std::size_t threaded)
+{
+  Seen seen;
+  seen.part.assign(n, -1);
+  std::vector<int> parts[2];
+  strata::blockwise(
+    n,
+    block,
+    threaded,
+    [&](std::size_t from, std::size_t to, int part)
+    {
+      for (std::size_t i = from; i < to; ++i)
+      {
+        seen.part[i] = seen.part[i] == -1 ? part : -2;
+        parts[part].push_back(static_cast<int>(i));
+      }
+    },
+    [&]
+    {
+      for (std::vector<int>& p : parts)
+      {
+        seen.merged.insert(seen.merged.end(), p.begin(), p.end());
+        p.clear();
+      }
+      seen.ends.push_back(seen.merged.size());
+    });
+  return seen;
+}
+
+} // namespace
+
+TEST(ParallelTest, BlockwiseVisitsEveryItemOnceAndMergesInOrder)
+{
+  for (const std::size_t threaded : { std::size_t(0), std::size_t(1000000) })
+  {
+    SCOPED_TRACE(threaded);
+    const Seen seen = run(1000, 64, threaded);
+    std::vector<int> order(1000);
+    for (int i = 0; i < 1000; ++i)
+    {
+      order[i] = i;
+      EXPECT_GE(seen.part[i], 0) << "item " << i;
+    }
+    EXPECT_EQ(seen.merged, order);
+    // 15 blocks of 64 and one of 40, each merged before the next.
+    ASSERT_EQ(seen.ends.size(), 16u);
+    for (std::size_t b = 0; b < seen.ends.size(); ++b)
+    {
+      EXPECT_EQ(seen.ends[b], std::min<std::size_t>(1000, 64 * (b + 1)));
+    }
+    // Split blocks: each half its own part (the first 32 of a block part 0); whole blocks
+    // below the threshold: part 0 only.
+    for (int i = 0; i < 1000; ++i)
+    {
+      const int expected = threaded == 0 && i % 64 >= (i < 960 ? 32 : 20) ? 1 : 0;
+      EXPECT_EQ(seen.part[i], expected) << "item " << i;
+    }
+  }
+  EXPECT_TRUE(run(0, 64, 0).ends.empty());
+}
+
+TEST(ParallelTest, AnExceptionBetweenBlocksLeavesNoThreadRunning)
+{
+  // The merge after a block may throw (a progress report's abort): the block's threads have
+  // been joined by then, so the exception reaches the caller (no std::terminate) and no
+  // further block runs.
+  std::atomic<int> blocks{ 0 };
+  EXPECT_THROW(strata::blockwise(
+                 1000,
+                 100,
+                 0,
+                 [&](std::size_t from, std::size_t, int) { blocks += from % 100 == 0; },
+                 [&]
+                 {
+                   if (blocks == 3)
+                   {
+                     throw Stop();
+                   }
+                 }),
+    Stop);
+  EXPECT_EQ(blocks.load(), 3);
+}
