@@ -7,6 +7,7 @@
 #include "Quality.h"
 
 #include "Errors.h"
+#include "Parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,9 @@ namespace strata
 
 namespace
 {
+// Triangles from which the qualities are computed in two halves at once.
+constexpr std::size_t kThreadedTriangles = 65536;
+
 constexpr double kDegrees = 57.295779513082320876798; // 180 / pi
 
 inline double angleBetween(Vec2 u, Vec2 v)
@@ -113,7 +117,24 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
           " refers to point " + std::to_string(tri[k]) + ", not in [0, " + std::to_string(n) + ")");
       }
     }
-    out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
+  }
+  // Each triangle on its own: the two halves at once for large meshes.
+  const auto some = [&](std::size_t from, std::size_t to)
+  {
+    for (std::size_t t = from; t < to; ++t)
+    {
+      const std::array<int, 3>& tri = triangles[t];
+      out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
+    }
+  };
+  const std::size_t nt = triangles.size();
+  if (nt < kThreadedTriangles)
+  {
+    some(0, nt);
+  }
+  else
+  {
+    bothHalves([&] { some(0, nt / 2); }, [&] { some(nt / 2, nt); });
   }
   return out;
 }
