@@ -1990,6 +1990,20 @@ void Compressor::simulate()
   int settled = 0, waves = 0, it = 0;
   bool wasPushing = true;
   LargeVector<Vec2> windowStart = this->Sys->positions();
+  // The pushed vertices, increasing (a push starts only in the waves, when it is rebuilt).
+  std::vector<int> pushed;
+  const auto findPushed = [&]()
+  {
+    pushed.clear();
+    for (int i = 0; i < n; ++i)
+    {
+      if (this->St[i] == Pushing)
+      {
+        pushed.push_back(i);
+      }
+    }
+  };
+  findPushed();
   for (; it < maxIt; ++it)
   {
     this->At = 0.1 + 0.6 * static_cast<double>(it) / maxIt;
@@ -1997,17 +2011,21 @@ void Compressor::simulate()
     this->Sys->computeForces();
     double largest = this->Sys->integrate(dt, &this->TheGuard);
     bool pushing = false;
-    for (int i = 0; i < n; ++i)
+    for (const int i : pushed)
     {
-      if (this->St[i] == Pushing)
+      if (this->St[i] != Pushing)
       {
-        const Vec2 before = this->Sys->positions()[i];
-        this->pushStep(i, dt);
-        largest =
-          std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
-        pushing |= this->St[i] == Pushing && ++this->PushSteps[i] < this->Budget[i];
+        continue; // (a push another one ended)
       }
+      const Vec2 before = this->Sys->positions()[i];
+      this->pushStep(i, dt);
+      largest =
+        std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
+      pushing |= this->St[i] == Pushing && ++this->PushSteps[i] < this->Budget[i];
     }
+    pushed.erase(std::remove_if(
+                   pushed.begin(), pushed.end(), [this](int i) { return this->St[i] != Pushing; }),
+      pushed.end());
     if (!this->Blocked.empty())
     {
       this->unblockPushes();
@@ -2018,13 +2036,21 @@ void Compressor::simulate()
       ++waves;
       pushing = wave = this->pushNewCrossings() > 0;
       waves = wave ? waves : kMaxWaves; // nothing new: the mesh is settled on the curves
+      if (wave)
+      {
+        findPushed();
+      }
     }
     wasPushing = pushing;
     if (!pushing)
     {
-      for (int i = 0; i < n; ++i)
+      // The awake vertices on the rails, increasing.
+      const LargeVector<int>* awake = this->Sys->awakeParticles();
+      const std::size_t count = awake ? awake->size() : static_cast<std::size_t>(n);
+      for (std::size_t j = 0; j < count; ++j)
       {
-        if (this->St[i] == Rail && this->Sys->awake(i))
+        const int i = awake ? (*awake)[j] : static_cast<int>(j);
+        if (i < n && this->St[i] == Rail)
         {
           const Vec2 before = this->Sys->positions()[i];
           this->railStep(i, dt);

@@ -264,6 +264,11 @@ public:
   /// sleeping ones are not computed). An empty mask wakes every particle.
   void setAwake(LargeVector<std::uint8_t> awake);
   bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
+  /// The awake particles, increasing; null when every particle is awake.
+  const LargeVector<int>* awakeParticles() const
+  {
+    return this->Awake.empty() ? nullptr : &this->AwakeList;
+  }
 
   /// Phase 1: resets the force accumulators and adds the contribution of every spring.
   void computeForces();
