@@ -1020,8 +1020,8 @@ void Compressor::buildSubMesh()
   this->Nbr.assign(nl, { -1, -1, -1 });
   blockwise(
     nl,
-    kBlock,
-    kThreadedItems,
+    kTwoThreadBlock,
+    kTwoThreadItems,
     [&](std::size_t from, std::size_t to, int)
     {
       for (std::size_t t = from; t < to; ++t)

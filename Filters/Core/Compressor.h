@@ -39,8 +39,6 @@ constexpr double kGoodAngle = 30.0;        // optimization leaves stars and pair
 constexpr double kPoorAngle = 20.0;        // smoothing below this may leave the boundary tolerance
 constexpr int kOnCurve = -2;               // vertex region of a vertex on a curve
 constexpr std::size_t kQueryBlock = 16384; // queries per block of a two-thread query loop
-constexpr std::size_t kBlock = 65536;      // items per block of a two-thread sweep (blockwise)
-constexpr std::size_t kThreadedItems = 65536; // items from which such a sweep uses two threads
 
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t0)

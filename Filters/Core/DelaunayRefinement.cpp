@@ -224,11 +224,7 @@ constexpr double kDeviationFraction = 5e-4; // 2b': area a boundary edge may cut
 constexpr int kFollowRounds = 8;            // rounds of 2b' at most
 constexpr int kSizeRounds = 32;             // rounds of 2d at most
 constexpr int kCollapseSweeps = 4;          // sweeps of the short edge collapses (6) at most
-// Triangles (or points) from which a sweep over the whole mesh runs in two halves at once, and
-// the blocks such a sweep reports progress between.
-constexpr std::size_t kThreadedTriangles = 65536;
-constexpr std::size_t kSweepBlock = 65536;
-constexpr int kRecoveryPasses = 2; // passes of 2b-5 with the curve recovery
+constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve recovery
 // The refinement of 3 goes down to this much of minimumEdgeLength: a junction pair, a curve
 // vertex or a recovered layer often leaves a boundary edge a little shorter than the finest
 // triangles, and the triangles beside it are only mended below it (Gulf: a 22.7-degree triangle
@@ -480,7 +476,7 @@ private:
     this->Live.push_back(1);
     return static_cast<int>(this->M.triangles.size()) - 1;
   }
-  // visit(t, part) for every triangle, in blocks of kSweepBlock, each block's two halves at
+  // visit(t, part) for every triangle, in blocks of kTwoThreadBlock, each block's two halves at
   // once (parts 0 and 1) for large meshes (visit reads only, or writes its own part's data);
   // after each block merge() and a progress report, on this thread.
   template<class Visit, class Merge>
@@ -488,8 +484,8 @@ private:
   {
     blockwise(
       this->M.triangles.size(),
-      kSweepBlock,
-      kThreadedTriangles,
+      kTwoThreadBlock,
+      kTwoThreadItems,
       [&](std::size_t from, std::size_t to, int part)
       {
         for (std::size_t t = from; t < to; ++t)
@@ -681,8 +677,8 @@ void Refiner::buildNeighbours()
   };
   const std::size_t np = stars.start.empty() ? 0 : stars.start.size() - 1;
   blockwise(np,
-    kSweepBlock,
-    kThreadedTriangles,
+    kTwoThreadBlock,
+    kTwoThreadItems,
     match,
     [&]
     {
@@ -1270,10 +1266,10 @@ std::size_t Refiner::recoverCurves()
     probeFound.assign(probeT.size(), 0);
     probeAt.resize(probeT.size());
     std::vector<Vec2> corners;
-    for (std::size_t begin = 0; begin < probeT.size(); begin += kSweepBlock)
+    for (std::size_t begin = 0; begin < probeT.size(); begin += kTwoThreadBlock)
     {
       this->report();
-      const std::size_t n = std::min(kSweepBlock, probeT.size() - begin);
+      const std::size_t n = std::min(kTwoThreadBlock, probeT.size() - begin);
       corners.clear();
       for (std::size_t i = begin; i < begin + n; ++i)
       {

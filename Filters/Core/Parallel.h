@@ -11,6 +11,12 @@
 namespace strata
 {
 
+/// Items (triangles, points) from which a loop over a whole mesh runs in two halves at once
+/// (below it a thread's start costs more than it saves), and the items per block of such a
+/// loop between two progress reports (blockwise).
+constexpr std::size_t kTwoThreadItems = 65536;
+constexpr std::size_t kTwoThreadBlock = 65536;
+
 /// Runs first() and second(): at once on two threads when the machine has two cores (and a
 /// thread can be started), else one after the other. Neither may throw, and second() may not
 /// report progress (it may run off the caller's thread).

@@ -18,9 +18,6 @@ namespace strata
 
 namespace
 {
-// Triangles from which the qualities are computed in two halves at once.
-constexpr std::size_t kThreadedTriangles = 65536;
-
 constexpr double kDegrees = 57.295779513082320876798; // 180 / pi
 
 inline double angleBetween(Vec2 u, Vec2 v)
@@ -128,7 +125,7 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
     }
   };
   const std::size_t nt = triangles.size();
-  if (nt < kThreadedTriangles)
+  if (nt < kTwoThreadItems)
   {
     some(0, nt);
   }

@@ -41,9 +41,6 @@ namespace strata
 
 namespace
 {
-// Lists from which a one-off pass (rest lengths, the live springs) runs in two halves at once.
-constexpr std::size_t kThreadedTriangles = 65536;
-
 void checkRange(bool ok, const char* name, double value, const char* range)
 {
   if (!ok)
@@ -325,7 +322,7 @@ void ProjectionSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec
     }
   };
   const std::size_t n = mesh.triangles.size(), middle = n / 2;
-  if (n < kThreadedTriangles)
+  if (n < kTwoThreadItems)
   {
     some(0, n);
     return;
@@ -670,7 +667,7 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
       }
     }
   };
-  if (this->Mesh.triangles.size() < kThreadedTriangles)
+  if (this->Mesh.triangles.size() < kTwoThreadItems)
   {
     liveEdges();
     liveTriangles();
