@@ -260,8 +260,11 @@ public:
   }
 
   /// Sleeping: only awake particles are integrated, and only springs touching an awake
-  /// particle are evaluated (the forces on awake particles are then complete; those on
-  /// sleeping ones are not computed). An empty mask wakes every particle.
+  /// particle are evaluated (the forces on awake particles are then complete; a sleeping
+  /// particle has the forces of the live springs that touch it, none when no live spring
+  /// does). An empty mask wakes every particle. What the last mask's springs wrote is reset
+  /// there only; the live springs are found by one pass over the edges and one over the
+  /// triangles (on two threads for large meshes).
   void setAwake(LargeVector<std::uint8_t> awake);
   bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
   /// The awake particles, increasing; null when every particle is awake.
