@@ -1588,9 +1588,7 @@ LargeVector<int> Refiner::centroidRegionsNear()
   constexpr std::size_t kBlock = std::size_t(1) << 15;
   for (std::size_t begin = 0; begin < n; begin += kBlock)
   {
-    this->Progress.report(
-      std::min(0.99, static_cast<double>(this->Inserted) / static_cast<double>(this->Budget)),
-      "refining toward the minimum angle");
+    this->report();
     points.clear();
     reach.clear();
     ids.clear();
