@@ -1803,6 +1803,11 @@ void Compressor::flip(int t, int k)
   const int eAD = this->TriEdge[u][(j + 1) % 3], eDB = this->TriEdge[u][(j + 2) % 3];
   this->Flipped.push_back(t);
   this->Flipped.push_back(u);
+  if (!this->MovedAll)
+  {
+    this->FlippedSinceTest.push_back(t);
+    this->FlippedSinceTest.push_back(u);
+  }
   this->Tri[t] = { c, a, d };
   this->Nbr[t] = { nCA, nAD, u };
   this->TriEdge[t] = { eCA, eAD, eAB };
@@ -1878,19 +1883,47 @@ std::size_t Compressor::flipDegenerate()
     return this->twiceArea(static_cast<int>(t)) < kSmallArea * this->RestTwice[t] ||
       minAngleSine(x[tri[0]], x[tri[1]], x[tri[2]]) < smallSine;
   };
-  // The test of every triangle first, in two halves on two threads (it only reads); then the
-  // flips in order, testing again the triangles a flip before changed: the serial result.
+  // The test of every triangle first, in two halves on two threads (it only reads), or, when
+  // few particles were awake since the last test, of the triangles around them and those
+  // flipped since (the others kept their shape and their marks); then the flips in order,
+  // testing again the triangles a flip before changed: the serial result.
   const std::size_t nt = this->Tri.size();
   LargeVector<std::uint8_t>& marks = this->DegenerateMarks;
-  marks.resize(nt);
-  const auto test = [&](std::size_t from, std::size_t to)
+  this->noteMoved();
+  if (!this->MovedAll && marks.size() == nt)
   {
-    for (std::size_t t = from; t < to; ++t)
+    const auto retest = [&](int t) { marks[t] = degenerate(t) ? kDegenerate : 0; };
+    for (const int i : this->Moved)
     {
-      marks[t] = degenerate(t) ? kDegenerate : 0;
+      for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
+      {
+        retest(this->StarItems[s]);
+      }
     }
-  };
-  bothHalves([&] { test(0, nt / 2); }, [&] { test(nt / 2, nt); });
+    for (const int t : this->FlippedSinceTest)
+    {
+      retest(t);
+    }
+  }
+  else
+  {
+    marks.resize(nt);
+    const auto test = [&](std::size_t from, std::size_t to)
+    {
+      for (std::size_t t = from; t < to; ++t)
+      {
+        marks[t] = degenerate(t) ? kDegenerate : 0;
+      }
+    };
+    bothHalves([&] { test(0, nt / 2); }, [&] { test(nt / 2, nt); });
+  }
+  for (const int i : this->Moved)
+  {
+    this->MovedMark[i] = 0;
+  }
+  this->Moved.clear();
+  this->FlippedSinceTest.clear();
+  this->MovedAll = false;
   for (std::size_t t = 0; t < nt; ++t)
   {
     this->poll(t);
@@ -1960,13 +1993,14 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
   const std::size_t nv = x.size();
   LargeVector<std::uint8_t> awake(nv, 0);
   std::size_t moving = 0;
-  for (int i = 0; i < this->NumActive; ++i)
+  const auto visit = [&](int i)
   {
     const bool seed =
       this->St[i] == Pushing || norm(x[i] - windowStart[i]) > kSleep * this->Sys->localLength(i);
+    windowStart[i] = x[i];
     if (!seed)
     {
-      continue;
+      return;
     }
     ++moving;
     for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
@@ -1976,10 +2010,54 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
         awake[v] = v < this->NumActive;
       }
     }
+  };
+  // Only the awake particles moved since the last refresh: the others are no seeds, but for
+  // the pushes a wave just started, and their window starts hold.
+  const LargeVector<int>* list = this->Sys->awakeParticles();
+  if (list)
+  {
+    for (const int i : *list)
+    {
+      visit(i);
+    }
+    for (int i = 0; i < this->NumActive; ++i)
+    {
+      if (this->St[i] == Pushing && !this->Sys->awake(i))
+      {
+        visit(i);
+      }
+    }
   }
+  else
+  {
+    for (int i = 0; i < this->NumActive; ++i)
+    {
+      visit(i);
+    }
+  }
+  this->noteMoved();
   this->Sys->setAwake(std::move(awake));
-  windowStart = x;
   return moving;
+}
+
+void Compressor::noteMoved()
+{
+  // (Many: flipDegenerate tests every triangle anyway.)
+  const LargeVector<int>* list = this->Sys->awakeParticles();
+  if (this->MovedAll || !list || 8 * (this->Moved.size() + list->size()) >= this->Global.size())
+  {
+    this->MovedAll = true;
+    return;
+  }
+  this->MovedMark.resize(this->Global.size(), 0);
+  for (const int i : *list)
+  {
+    if (!this->MovedMark[i])
+    {
+      this->MovedMark[i] = 1;
+      this->Moved.push_back(i);
+    }
+  }
 }
 
 void Compressor::simulate()
@@ -2081,6 +2159,7 @@ void Compressor::simulate()
   }
   this->Result.iterations = it;
   this->flipDegenerate();
+  this->MovedAll = true; // (no more tests: flips after the simulation are not tracked)
 }
 
 //------------------------------------------------------------------------------

@@ -328,9 +328,17 @@ private:
   LargeVector<int> Flipped;
   LargeVector<std::uint8_t> FlippedMark;
   LargeVector<int> StarScratch;
-  // flipDegenerate()'s marks per triangle: kDegenerate as first tested, kChanged once flipped.
+  // flipDegenerate()'s marks per triangle: kDegenerate as tested, kChanged once flipped. Since
+  // its last test: the vertices that may have moved (every one when MovedAll; each awake set's
+  // particles, MovedMark against repeats) and the triangles flip() changed (with repeats). The
+  // marks of the other triangles still hold (a sleeping particle does not move).
   static constexpr std::uint8_t kDegenerate = 1, kChanged = 2;
   LargeVector<std::uint8_t> DegenerateMarks;
+  bool MovedAll = true;
+  LargeVector<int> Moved;
+  LargeVector<std::uint8_t> MovedMark;
+  LargeVector<int> FlippedSinceTest;
+  void noteMoved(); // the awake set's particles may have moved since flipDegenerate's test
   std::size_t StarTriangles = 0;
   std::unique_ptr<SpringSystem> Sys;
 

@@ -2979,16 +2979,17 @@ double Refiner::minimumAngle() const
 void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
 {
   const double cosine = std::cos(angle * kPi / 180.0);
-  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  for (const int t : this->selectTriangles(
+         [&](int t)
+         {
+           return this->M.region[t] >= 0 && this->Live[t] &&
+             this->smallestAngleCosine(this->M.triangles[t]) > cosine;
+         }))
   {
-    this->poll();
     const auto& tri = this->M.triangles[t];
-    if (this->M.region[t] >= 0 && this->Live[t] && this->smallestAngleCosine(tri) > cosine)
-    {
-      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-      const double longest = std::max({ norm2(b - a), norm2(c - b), norm2(a - c) });
-      zones.push_back({ (1.0 / 3.0) * (a + b + c), 4.0 * longest });
-    }
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    const double longest = std::max({ norm2(b - a), norm2(c - b), norm2(a - c) });
+    zones.push_back({ (1.0 / 3.0) * (a + b + c), 4.0 * longest });
   }
 }
 } // namespace

@@ -1430,6 +1430,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
   };
   const std::size_t nt = compressed.triangles.size();
   std::vector<int> newId(compressed.points.size(), -1);
+  // (At most every triangle and point is kept: no growth of the lists on the way.)
+  result.points.reserve(compressed.points.size());
+  result.displacement.reserve(compressed.points.size());
+  result.triangles.reserve(nt);
+  result.regionId.reserve(nt);
+  result.level.reserve(nt);
   for (std::size_t t = 0; t < nt; ++t)
   {
     poll();
