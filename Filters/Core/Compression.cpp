@@ -1987,7 +1987,7 @@ std::size_t Compressor::unblockPushes()
 // the last update, or are pushed, and their neighbours stay awake; the others are not
 // integrated and springs between sleeping particles are not evaluated until they wake.
 // Returns the number of moving particles.
-std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
+std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart, const std::vector<int>& pushed)
 {
   const auto& x = this->Sys->positions();
   const std::size_t nv = x.size();
@@ -2012,7 +2012,8 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
     }
   };
   // Only the awake particles moved since the last refresh: the others are no seeds, but for
-  // the pushes a wave just started, and their window starts hold.
+  // the pushes a wave just started (among `pushed`, the simulation's pushed vertices), and
+  // their window starts hold.
   const LargeVector<int>* list = this->Sys->awakeParticles();
   if (list)
   {
@@ -2020,7 +2021,7 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart)
     {
       visit(i);
     }
-    for (int i = 0; i < this->NumActive; ++i)
+    for (const int i : pushed)
     {
       if (this->St[i] == Pushing && !this->Sys->awake(i))
       {
@@ -2143,7 +2144,7 @@ void Compressor::simulate()
     }
     if (wave || (it + 1) % kWakeInterval == 0)
     {
-      const std::size_t moving = this->refreshAwake(windowStart);
+      const std::size_t moving = this->refreshAwake(windowStart, pushed);
       if (!pushing && waves >= kMaxWaves && moving <= static_cast<std::size_t>(kQuietFraction * n))
       {
         ++it;

@@ -144,7 +144,7 @@ private:
   void pushStep(int i, double dt);
   void railStep(int i, double dt);
   std::size_t pushNewCrossings();
-  std::size_t refreshAwake(LargeVector<Vec2>& windowStart);
+  std::size_t refreshAwake(LargeVector<Vec2>& windowStart, const std::vector<int>& pushed);
   double lowerDistance(int i) const
   {
     const int g = this->Global[i];
