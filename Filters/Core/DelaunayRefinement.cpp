@@ -53,7 +53,12 @@
 //    edge is 1.5 minimumEdgeLength long (long enough for the refinement), when d is below
 //    0.45 of both edges and the tip's area at most 0.05% of the region's; the tip is then a
 //    small triangle given away as above (a fault block's layer pinching out at 15 degrees in
-//    a triangle longer than 16 finest edges; Marmousi 26.6 -> 30.0 degrees).
+//    a triangle longer than 16 finest edges; Marmousi 26.6 -> 30.0 degrees). In the curve
+//    recovery's last pass every such corner's tip is cut so, whatever the triangle's size,
+//    with a third edge of one minimumEdgeLength: the region then ends where it is about one
+//    finest edge wide rather than where a whole triangle ends (country borders meeting a
+//    coast at a small angle, whose tips were cut where their triangles were two or three
+//    finest edges across).
 //    Neither is done to a spike of the mesh's own (with RefinementParams::sharpModelCorner):
 //    a sharp corner between two triangles of one other region (or the outer border), with no
 //    corner of its region in the model sharper than the bound (plus a margin) within 4 times
@@ -208,6 +213,7 @@ constexpr int kDissolveSweeps = 16;      // sweeps of the corner dissolving at m
 constexpr double kSpikeReach = 4.0;      // 2c: a model corner this many longest edges away
                                          // from a spike makes it the model's
 constexpr double kTipCut = 1.5;          // 2c: a cut tip's far edge, in minimumEdgeLength
+constexpr double kEveryTipCut = 1.0;     // 2c, the recovery's last pass: every tip's far edge
 constexpr double kFlat = 1e-4;           // 7: no flip makes a triangle with a smaller sine
 constexpr double kSnap = 1e-3;           // 7: a side crossing an edge this close (relative) to an
                                          // end on the curves passes through that end
@@ -367,8 +373,12 @@ public:
   /// (with the curve recovery's callbacks): returns the triangles retagged.
   std::size_t dissolveCorners();
   /// The tips of the region corners sharper than the bound in triangles too long and too
-  /// large to be given away whole, split off on their curves (2c): returns the splits.
+  /// large to be given away whole (or in every triangle, after cutEveryTip()), split off on
+  /// their curves (2c): returns the splits.
   std::size_t cutTips(const std::map<int, double>& regionTwice);
+  /// From here on, dissolveCorners() cuts the tip of every sharp region corner (2c: the
+  /// curve recovery's last pass).
+  void cutEveryTip() { this->EveryTip = true; }
   std::size_t dissolveThinPieces(std::vector<int>& piece,
     std::map<int, double>& regionTwice,
     std::map<int, std::size_t>& count);
@@ -587,6 +597,7 @@ private:
   std::size_t Budget = 0;
   std::size_t Inserted = 0;
   std::size_t TipVertices = 0;  // (cutTips)
+  bool EveryTip = false;        // (cutTips)
   std::size_t KeptVertices = 0; // (keepCorners)
   mutable std::size_t Ticks = 0;
   LargeVector<std::array<int, 3>> Nbr; // across edge k = (tri[k], tri[k + 1])
@@ -1984,8 +1995,9 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
     const std::array<int, 3> tri = this->M.triangles[t];
     const Vec2 p[3] = { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) };
     if (region < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle ||
-      std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
-      orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region) ||
+      (!this->EveryTip &&
+        (std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
+          orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region))) ||
       this->meshSpike(t))
     {
       continue; // 2c gives it away whole, or it has no sharp corner
@@ -1993,9 +2005,11 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
     const auto angles = triangleAngles(p[0], p[1], p[2]);
     const int k = this->sharpestRegionCorner(t, angles);
     // Its edges are split at distance d from it, on their curves: the far edge of the tip,
-    // 2 d sin(angle / 2), is kTipCut finest edges long (long enough for the refinement).
+    // 2 d sin(angle / 2), is kTipCut finest edges long (long enough for the refinement), or
+    // kEveryTipCut in the recovery's last pass.
     const Vec2 v = p[k], a = p[(k + 1) % 3], b = p[(k + 2) % 3];
-    const double d = kTipCut * finest / (2.0 * std::sin(0.5 * angles[k] * kPi / 180.0));
+    const double d = (this->EveryTip ? kEveryTipCut : kTipCut) * finest /
+      (2.0 * std::sin(0.5 * angles[k] * kPi / 180.0));
     const double la = norm(a - v), lb = norm(b - v);
     if (!(d < 0.45 * std::min(la, lb)) ||
       !(d * d * std::sin(angles[k] * kPi / 180.0) <= kDeviationFraction * regionTwice.at(region)))
@@ -3406,6 +3420,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
   bool last,
+  bool everyTip,
   const ProgressReporter& progress)
 {
   const std::vector<Zone> none;
@@ -3413,6 +3428,10 @@ RefinementResult refinePass(RegionMesh& mesh,
   base.prepare(); // mesh is constrained Delaunay from here on
   const std::size_t recovered = base.recoverCurves();
   const std::size_t followed = base.followCurves();
+  if (everyTip)
+  {
+    base.cutEveryTip();
+  }
   const std::size_t dissolved = base.dissolveCorners();
   std::size_t sized = base.splitLongEdges();
   // 7: the kept corners, in the last pass before its runs (which mend the triangles beside).
@@ -3528,6 +3547,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       splitter,
       params,
       pass + 1 == passes,
+      passes > 1 && pass + 1 == passes,
       progress.sub(static_cast<double>(pass) / passes, static_cast<double>(pass + 1) / passes));
     total.delaunayFlips += r.delaunayFlips;
     total.interiorVertices += r.interiorVertices;
