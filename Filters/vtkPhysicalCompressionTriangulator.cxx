@@ -225,6 +225,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
     fd, "TrianglesAtSharpCorners", static_cast<int>(s.trianglesAtSharpCorners));
   vtkStrataMeshOutput::AddField(
     fd, "TrianglesBelowMinimumAngle", static_cast<int>(s.trianglesBelowMinimumAngle));
+  vtkStrataMeshOutput::AddField(fd, "MinimumAngleUnforced", s.minAngleUnforced);
   vtkStrataMeshOutput::AddField(fd, "LocalMaxLevel", s.localMaxLevel);
   if (params.keepSharpCorners)
   {

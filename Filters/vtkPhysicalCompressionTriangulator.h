@@ -35,7 +35,9 @@
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
  * that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below MinimumAngle by more
  * than 0.05 degrees that neither an input corner nor a kept one forces; a warning names the
- * worst one's angle, region and place), `LocalMaxLevel` (the level the mesh was made with),
+ * worst one's angle, region and place), `MinimumAngleUnforced` (degrees: the smallest angle
+ * of the other triangles, neither an input corner nor a kept one forcing them; 180 without
+ * any), `LocalMaxLevel` (the level the mesh was made with),
  * with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, `ThinLayerMesh` (1
  * when the mesh was made with the grid's thin layer refinement: ThinLayerRefinement on, or
  * ThinLayerRetry's second mesh kept; when a second mesh was made, `SecondsDiscardedRun` times
@@ -292,8 +294,9 @@ public:
    * made again with LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or,
    * for the area, when its area error is smaller and its smallest angle is not (up to 30
    * degrees), or, for the pieces, when fewer regions are cut and neither the smallest angle
-   * nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning). Off: one mesh, as
-   * made.
+   * nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); with
+   * KeepSharpCorners that smallest angle is the one away from the kept corners (field
+   * `MinimumAngleUnforced`). Off: one mesh, as made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

@@ -1492,6 +1492,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
         result.keptCorners, result.points[tri[0]], result.points[tri[1]], result.points[tri[2]]);
     result.summary.keptCornerTriangles += nearKept[t];
   }
+  for (std::size_t t = 0; t < result.triangles.size(); ++t)
+  {
+    result.summary.minAngleUnforced = forced[t] || nearKept[t]
+      ? result.summary.minAngleUnforced
+      : std::min(result.summary.minAngleUnforced, result.minAngle[t]);
+  }
   // With the optimization, those that neither the input's corners nor the kept ones force:
   // where the mesh missed the bound (the worst one named with its place).
   std::size_t worst = result.triangles.size();
@@ -1808,7 +1814,7 @@ MesherResult triangulate(const RawPolylines& input,
 {
   const ProgressReporter progress(callback);
   const bool retry = params.thinLayerRetry && params.compression.optimize && params.curveRecovery &&
-    !params.keepSharpCorners && params.refinement.minimumAngle >= kFinerRetryAngle &&
+    params.refinement.minimumAngle >= kFinerRetryAngle &&
     params.grid.localMaxLevel < 0 && !(params.grid.minEdgeLength > 0.0) &&
     !params.grid.targetEdgeLength;
   if (!retry)
@@ -1830,8 +1836,12 @@ MesherResult triangulate(const RawPolylines& input,
   const Clock::time_point begin = Clock::now();
   MesherResult first = triangulateWithThinLayers(input, params, progress.sub(0.0, kFirstShare));
   const MesherResult::Summary& s1 = first.summary;
-  const bool angleMiss = s1.trianglesBelowMinimumAngle > 0 && s1.trianglesAtSharpCorners == 0 &&
-    s1.minAngle < kFinerRetryAngle - kRetryAngleSlack;
+  // With kept corners, the smallest angle off them (the wedges keep the input's angles).
+  const bool keeps = params.keepSharpCorners;
+  const auto angleOf = [keeps](const MesherResult::Summary& s)
+  { return keeps ? s.minAngleUnforced : s.minAngle; };
+  const bool angleMiss = s1.trianglesBelowMinimumAngle > 0 &&
+    (keeps || s1.trianglesAtSharpCorners == 0) && angleOf(s1) < kFinerRetryAngle - kRetryAngleSlack;
   const bool areaMiss = s1.maxRegionAreaError > kAreaBound;
   // (A region cut into more pieces than the model has only with the sizes all automatic: a
   // coarse MaxLevel the user chose is kept, the cut regions named.)
@@ -1852,9 +1862,9 @@ MesherResult triangulate(const RawPolylines& input,
     triangulateWithThinLayers(input, finerParams, progress.sub(kFirstShare, 1.0));
   const MesherResult::Summary& s2 = finer.summary;
   const bool angleKept =
-    s2.minAngle >= std::min(s1.minAngle, kThinLayerRetryAngle) - kRetryAngleSlack;
+    angleOf(s2) >= std::min(angleOf(s1), kThinLayerRetryAngle) - kRetryAngleSlack;
   const bool keepFiner = s2.triangles > 0 &&
-    (s2.minAngle > s1.minAngle + kRetryAngleSlack ||
+    (angleOf(s2) > angleOf(s1) + kRetryAngleSlack ||
       (areaMiss && s2.maxRegionAreaError < s1.maxRegionAreaError && angleKept) ||
       (pieceMiss && finer.brokenRegions.size() < first.brokenRegions.size() && angleKept &&
         s2.maxRegionAreaError <= std::max(s1.maxRegionAreaError, kAreaBound)));
@@ -1865,9 +1875,10 @@ MesherResult triangulate(const RawPolylines& input,
   {
     std::snprintf(why,
       sizeof(why),
-      "had triangles below %g degrees (smallest %.2f)",
+      "had triangles below %g degrees (smallest %.2f%s)",
       kFinerRetryAngle,
-      s1.minAngle);
+      angleOf(s1),
+      keeps ? " off the kept corners" : "");
   }
   else if (areaMiss)
   {
@@ -1881,15 +1892,16 @@ MesherResult triangulate(const RawPolylines& input,
       "cut %zu region(s) into more pieces than the model has",
       first.brokenRegions.size());
   }
-  char text[320];
+  char text[352];
   std::snprintf(text,
     sizeof(text),
     "the mesh at LocalMaxLevel %d %s, so it was made again at LocalMaxLevel %d (smallest %.2f "
-    "degrees, area error %.2f%%, %zu regions cut, %zu triangles); the %s one is kept",
+    "degrees%s, area error %.2f%%, %zu regions cut, %zu triangles); the %s one is kept",
     s1.localMaxLevel,
     why,
     s2.localMaxLevel,
-    s2.minAngle,
+    angleOf(s2),
+    keeps ? " off the kept corners" : "",
     100.0 * s2.maxRegionAreaError,
     finer.brokenRegions.size(),
     s2.triangles,

@@ -74,8 +74,9 @@ struct MesherParams
   /// region cut into more pieces than the model has (MesherResult::brokenRegions), is made
   /// again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when its
   /// smallest angle is larger, or when it mends the area or the pieces without a smaller
-  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel). Default
-  /// on.
+  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel). With
+  /// keepSharpCorners these smallest angles are those away from the kept corners
+  /// (Summary::minAngleUnforced; the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };
 
@@ -182,6 +183,11 @@ struct MesherResult
     /// could not mend): what keeping the corners costs. Some also count in
     /// trianglesAtSharpCorners.
     std::size_t keptCornerTriangles = 0;
+    /// The smallest angle (degrees; 180 without any) of the triangles neither
+    /// trianglesAtSharpCorners nor keptCornerTriangles count: what the mesh reached where
+    /// neither the input nor the kept corners force it (thinLayerRetry's finer level judges
+    /// meshes with kept corners by it).
+    double minAngleUnforced = 180.0;
     /// Whether the mesh was made with the grid's thin layer refinement: grid.thinLayerRefinement
     /// and its mesh kept, or thinLayerRetry's second mesh kept (a warning then gives both
     /// meshes' figures, and secondsPerStage starts with the discarded run's "discarded run"; the

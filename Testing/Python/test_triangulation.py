@@ -205,6 +205,10 @@ class TriangulationTest(unittest.TestCase):
         self.assertIsNone(off.VTKObject.GetFieldData().GetArray("KeptCorners"))
         self.assertEqual(field(on, "KeptCorners"), 1)
         self.assertGreater(field(on, "KeptCornerTriangles"), 0)
+        # The kept wedge keeps the input's 1 degree; away from it the bound holds.
+        self.assertLess(field(on, "MinimumAngle"), 25.0)
+        self.assertGreaterEqual(field(on, "MinimumAngleUnforced"), 29.95)
+        self.assertEqual(field(off, "MinimumAngleUnforced"), field(off, "MinimumAngle"))
         # Region 1 pinches out at (600, 40) at 1 degree: with the option its triangles reach
         # the apex and keep the input's angle there; without, they end well before it.
         apex = np.array([600.0, 40.0])
