@@ -1492,19 +1492,19 @@ MesherResult triangulateOnce(const RawPolylines& input,
         result.keptCorners, result.points[tri[0]], result.points[tri[1]], result.points[tri[2]]);
     result.summary.keptCornerTriangles += nearKept[t];
   }
+  // The triangles that neither the input's corners nor the kept ones force: their smallest
+  // angle, and with the optimization those where the mesh missed the bound (the worst one
+  // named with its place).
+  std::size_t worst = result.triangles.size();
   for (std::size_t t = 0; t < result.triangles.size(); ++t)
   {
-    result.summary.minAngleUnforced = forced[t] || nearKept[t]
-      ? result.summary.minAngleUnforced
-      : std::min(result.summary.minAngleUnforced, result.minAngle[t]);
-  }
-  // With the optimization, those that neither the input's corners nor the kept ones force:
-  // where the mesh missed the bound (the worst one named with its place).
-  std::size_t worst = result.triangles.size();
-  for (std::size_t t = 0; t < result.triangles.size() && params.compression.optimize; ++t)
-  {
-    if (result.minAngle[t] < params.refinement.minimumAngle - kRetryAngleSlack && !forced[t] &&
-      !nearKept[t])
+    if (forced[t] || nearKept[t])
+    {
+      continue;
+    }
+    result.summary.minAngleUnforced = std::min(result.summary.minAngleUnforced, result.minAngle[t]);
+    if (params.compression.optimize &&
+      result.minAngle[t] < params.refinement.minimumAngle - kRetryAngleSlack)
     {
       ++result.summary.trianglesBelowMinimumAngle;
       worst =
