@@ -170,6 +170,18 @@
 //    keep those shapes. The smoothing (5) may slide their sides' vertices along the curves. What
 //    the runs cannot mend beside a wedge is counted by the mesher, with the wedge's triangles, as
 //    what keeping the corner costs.
+// 7'. Inlets (RefinementParams::wedgeCorners; in the last pass, before 7). A wedge of the
+//    exterior sharper than minimumAngle (a coast's narrow bay) ends, in the compressed mesh,
+//    where it is two or three finest edges wide: the probes of 2b need a margin on both sides
+//    of a curve. Where its exterior triangles end farther from the apex than the distance d0
+//    at which the wedge is kWedgeCut minimumEdgeLength wide, it is rebuilt as in 7 from there
+//    (not from the apex): vertices on both sides at d0 and outward at the same distances, the
+//    sides and the cut between the two at d0 made mesh edges, the triangles inside made
+//    exterior (the tip beyond the cut keeps the region around it), with the same checks but
+//    for the wedge's shapes (its triangles are dropped); the runs of 3 then mend the
+//    triangles beside it. Each wedge looks only at the triangles with a vertex within twice
+//    its sides' reach (found for all wedges in one sweep), and its flips of 2 start from
+//    those. (Lake Superior's 10-degree bay: deviation 1.16 -> 0.52 local edges.)
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
@@ -218,6 +230,7 @@ constexpr double kFlat = 1e-4;           // 7: no flip makes a triangle with a s
 constexpr double kSnap = 1e-3;           // 7: a side crossing an edge this close (relative) to an
                                          // end on the curves passes through that end
 constexpr int kRecoveryFlips = 256;      // 7: flips tried per side edge before conforming
+constexpr double kWedgeCut = 1.0;        // 7': an extended wedge ends this many finest edges wide
 constexpr double kKeptSpacing = 1.0;     // 7: a kept wedge's vertices along its sides, in
                                          // minimumEdgeLength
 constexpr double kKeptLargest = 150.0;   // 7: a kept wedge's triangles have no angle above this
@@ -364,7 +377,7 @@ public:
   /// Neighbours, frozen triangles, then Lawson's flips to constrained Delaunay (counted in
   /// the result's delaunayFlips).
   void prepare();
-  void flipToDelaunay();
+  void flipToDelaunay(const std::vector<int>* seeds = nullptr);
   /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted.
   std::size_t recoverCurves();
   /// Curve fidelity (RefinementParams::curveDeviation): returns the boundary edges split.
@@ -410,6 +423,9 @@ public:
   /// kept) and returns the corners kept. Their wedges' triangles are no longer bad for this
   /// refiner.
   std::size_t keepCorners(std::vector<double>& radii, std::vector<std::vector<Vec2>>& outlines);
+  /// Step 7': the wedges of RefinementParams::wedgeCorners extended to where they are
+  /// kWedgeCut minimumEdgeLength wide. Returns the wedges extended.
+  std::size_t extendWedges();
   /// The vertices keepCorners inserted (on the kept corners' sides) since construction.
   std::size_t keptVertices() const { return this->KeptVertices; }
   /// The region triangles within kept corners' wedges below minimumAngle.
@@ -568,7 +584,12 @@ private:
   int vertexAt(int v, int& t, Vec2 e, double tol);
   int newVertex(int s, int edge, Vec2 w, bool orInside, int& t);
   bool recoverEdge(int p, int q, double tol, std::vector<int>& path);
-  bool keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2>& outline);
+  bool keepCorner(const SharpCorner& c,
+    double& radius2,
+    std::vector<Vec2>& outline,
+    double cutWidth = 0.0,
+    const std::vector<int>* local = nullptr);
+  std::vector<int> scope(const std::vector<int>* local, bool changed) const;
   double starCosine(const int* first, const int* last, double& largest) const;
   int locate(int start, Vec2 p, int& crossT, int& crossK) const;
   bool encroached(int start, Vec2 p, int& segT, int& segK);
@@ -1173,32 +1194,50 @@ void Refiner::prepare()
   this->flipToDelaunay();
 }
 
-// Lawson's flips until every unconstrained edge is Delaunay.
-void Refiner::flipToDelaunay()
+// Lawson's flips until every unconstrained edge is Delaunay (with `seeds`: starting from the
+// edges of those triangles only, when the others are known to be Delaunay).
+void Refiner::flipToDelaunay(const std::vector<int>* seeds)
 {
   // Every interior edge once, in order, would be stacked; only those that need a flip now are
   // (each block's two halves tested at once for large meshes): the others are Delaunay, and
   // one that a flip changes is stacked by that flip, so the flips are those of the full stack.
   LargeVector<std::array<int, 2>> stack, parts[2];
-  this->sweepTriangles(
-    [&](int t, int part)
+  for (std::size_t i = 0; seeds && i < seeds->size(); ++i)
+  {
+    const int t = (*seeds)[i];
+    for (int k = 0; k < 3 && this->Live[t]; ++k)
     {
-      for (int k = 0; k < 3; ++k)
+      const int u = this->Nbr[t][k];
+      // (each edge once: from the lower-numbered triangle when both are seeds)
+      if (u >= 0 && this->needsFlip(t, k) &&
+        (u > t || !std::binary_search(seeds->begin(), seeds->end(), u)))
       {
-        if (this->Nbr[t][k] > t && this->needsFlip(t, k))
+        stack.push_back({ t, k });
+      }
+    }
+  }
+  if (!seeds)
+  {
+    this->sweepTriangles(
+      [&](int t, int part)
+      {
+        for (int k = 0; k < 3; ++k)
         {
-          parts[part].push_back({ t, k });
+          if (this->Nbr[t][k] > t && this->needsFlip(t, k))
+          {
+            parts[part].push_back({ t, k });
+          }
         }
-      }
-    },
-    [&]
-    {
-      for (auto& list : parts)
+      },
+      [&]
       {
-        stack.insert(stack.end(), list.begin(), list.end());
-        list.clear();
-      }
-    });
+        for (auto& list : parts)
+        {
+          stack.insert(stack.end(), list.begin(), list.end());
+          list.clear();
+        }
+      });
+  }
   while (!stack.empty())
   {
     this->poll();
@@ -2673,12 +2712,20 @@ std::size_t Refiner::keepCorners(std::vector<double>& radii,
 
 // One corner of step 7 (see the top of this file): true when kept, with the squared radius its
 // wedge reaches and its outline; false with everything undone.
-bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2>& outline)
+bool Refiner::keepCorner(const SharpCorner& c,
+  double& radius2,
+  std::vector<Vec2>& outline,
+  double cutWidth,
+  const std::vector<int>* local)
 {
   if (c.first.size() < 2 || c.second.size() < 2)
   {
     return false;
   }
+  // The triangles looked at: all, or `local` and those the transaction changed or made (an
+  // extension's: see extendWedges()).
+  const bool cut = cutWidth > 0.0;
+  std::vector<int> all = this->scope(local, false);
   const std::vector<Vec2>* sides[2] = { &c.first, &c.second };
   const double reach = std::max(polylineLength(c.first), polylineLength(c.second));
   // A vertex this close to a side is on it (the curves' vertices are within curveTolerance
@@ -2691,9 +2738,10 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   int nearest[2] = { -1, -1 };
   double arc[2] = { HUGE_VAL, HUGE_VAL };
   std::vector<double> onSide[2];
-  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
   {
     this->poll();
+    const std::size_t t = local ? static_cast<std::size_t>(all[i]) : i;
     if (!this->Live[t])
     {
       continue;
@@ -2728,8 +2776,23 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   {
     return false;
   }
+  // An extension starts where the wedge is cutWidth across (d0 from the apex on both sides),
+  // and only where the region's triangles end farther from the apex than that on both sides.
+  const double spacing = kKeptSpacing * this->P.minimumEdgeLength;
+  double d0 = 0.0;
+  if (cut)
+  {
+    d0 = cutWidth / (2.0 * std::sin(0.5 * c.angle * kPi / 180.0));
+    const double across = norm(pointAlong(c.first, d0) - pointAlong(c.second, d0));
+    const double gap = 0.5 * std::max(spacing, across);
+    if (!(d0 + gap < std::min(arc[0], arc[1])) || !(across > 0.5 * cutWidth) ||
+      !(across < 1.5 * cutWidth))
+    {
+      return false;
+    }
+  }
   this->begin();
-  if (apexV < 0)
+  if (!cut && apexV < 0)
   {
     // No vertex at the apex (a corner the mesh cut): one is inserted there, walked to
     // from the region's nearest vertex on the first side.
@@ -2745,10 +2808,9 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   // minimumEdgeLength apart, or the wedge's width where that is more, and the sides' own
   // points), inserted (with the flips of 2); then the sides between them made mesh edges
   // (recoverEdge()); the wedge's outline.
-  outline.assign(1, c.apex);
+  outline.assign(cut ? 0 : 1, c.apex);
   std::vector<Vec2> second;
   bool ok = true;
-  const double spacing = kKeptSpacing * this->P.minimumEdgeLength;
   std::vector<int> chain[2];
   for (int s = 0; s < 2 && ok; ++s)
   {
@@ -2758,14 +2820,19 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
     for (std::size_t j = 1; j < side.size(); ++j)
     {
       sum += norm(side[j] - side[j - 1]);
-      if (sum < arc[s] - tol)
+      if (sum < arc[s] - tol && sum > d0 + tol)
       {
         targets.emplace_back(sum, side[j]);
       }
     }
     const std::size_t own = targets.size();                  // the side's points come first
     const double widening = std::sin(c.angle * kPi / 180.0); // the wedge's width per length
-    for (double d = spacing; spacing > 0.0 && d < arc[s] - 0.5 * spacing;
+    if (cut)
+    {
+      targets.emplace_back(d0, pointAlong(side, d0));
+    }
+    for (double d = cut ? d0 + std::max(spacing, widening * d0) : spacing;
+         spacing > 0.0 && d < arc[s] - 0.5 * spacing;
          d += std::max(spacing, widening * d))
     {
       const double gap = 0.5 * std::max(spacing, widening * d);
@@ -2786,13 +2853,31 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
     std::sort(targets.begin(),
       targets.end(),
       [](const auto& x, const auto& y) { return x.first < y.first; });
-    chain[s].push_back(apexV);
     int t = apexT;
+    if (cut)
+    {
+      // (A triangle around the region's nearest vertex, which side 0's insertions may have
+      // changed.)
+      t = -1;
+      for (int u : this->scope(local, true))
+      {
+        const auto& tri = this->M.triangles[u];
+        t = this->Live[u] && (tri[0] == nearest[s] || tri[1] == nearest[s] || tri[2] == nearest[s])
+          ? u
+          : t;
+      }
+      ok = t >= 0;
+    }
+    else
+    {
+      chain[s].push_back(apexV);
+    }
     for (std::size_t k = 0; k < targets.size() && ok; ++k)
     {
-      const int v = this->vertexAt(chain[s].back(), t, targets[k].second, tol);
+      const int v =
+        this->vertexAt(chain[s].empty() ? nearest[s] : chain[s].back(), t, targets[k].second, tol);
       ok = v >= 0;
-      if (ok && v != chain[s].back())
+      if (ok && (chain[s].empty() || v != chain[s].back()))
       {
         chain[s].push_back(v);
       }
@@ -2821,8 +2906,19 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
       out.push_back(this->X(path[k]));
     }
   }
+  if (cut && ok)
+  {
+    // The wedge's new end: the chord between the sides' first vertices, a mesh edge.
+    std::vector<int> path{ chain[0][0] };
+    ok = this->recoverEdge(chain[0][0], chain[1][0], tol, path);
+    outline.insert(outline.begin(), this->X(chain[0][0]));
+  }
   this->Legalize = true;
   outline.insert(outline.end(), second.rbegin(), second.rend());
+  if (cut && ok)
+  {
+    outline.push_back(this->X(chain[1][0]));
+  }
   radius2 = 0.0;
   for (Vec2 p : outline)
   {
@@ -2841,29 +2937,50 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
     return insidePolygon(outline, p);
   };
   // The triangles inside the outline take the corner's region.
-  std::vector<std::pair<int, int>> retagged; // (triangle, its region before)
-  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  const auto count = [&]()
   {
+    all = local ? this->scope(local, true) : all;
+    return local ? all.size() : this->M.triangles.size();
+  };
+  const auto at = [&](std::size_t i) { return local ? static_cast<std::size_t>(all[i]) : i; };
+  std::vector<std::pair<int, int>> retagged; // (triangle, its region before)
+  for (std::size_t i = 0, n = count(); i < n && ok; ++i)
+  {
+    const std::size_t t = at(i);
     const auto& tri = this->M.triangles[t];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), d = this->X(tri[2]);
     if (this->M.region[t] == c.region || !this->Live[t] || norm2(a - c.apex) > radius2 ||
       norm2(b - c.apex) > radius2 || norm2(d - c.apex) > radius2 || !inside(a, true) ||
-      !inside(b, true) || !inside(d, true) || !inside((1.0 / 3.0) * (a + b + d), false))
+      !inside(b, true) || !inside(d, true) || !inside((1.0 / 3.0) * (a + b + d), false) ||
+      (cut && this->P.regionAt((1.0 / 3.0) * (a + b + d)) != c.region))
     {
-      continue;
+      continue; // (an extension's wedge may hold islands: they stay)
     }
     retagged.emplace_back(static_cast<int>(t), this->M.region[t]);
     this->M.region[t] = c.region;
   }
+  // An extension's tip (apex, chord) stays with the region around it (the retag below would
+  // give it to the wedge's: the model's region there).
+  std::vector<Vec2> tip;
+  if (cut && ok)
+  {
+    tip = { c.apex, this->X(chain[0][0]), this->X(chain[1][0]) };
+  }
+  const auto inTip = [&](const std::array<int, 3>& tri)
+  {
+    return !tip.empty() &&
+      insidePolygon(tip, (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])));
+  };
   // Around it, triangles cut from their region by the sides (a side's bend beyond a chord
   // the mesh had) take the region at their centroid (retag()).
   for (int sweep = 0; sweep < 2 && ok; ++sweep)
   {
-    for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+    for (std::size_t i = 0, n = count(); i < n; ++i)
     {
+      const std::size_t t = at(i);
       const auto& tri = this->M.triangles[t];
       const int before = this->M.region[t];
-      if (before != c.region && norm2(this->X(tri[0]) - c.apex) <= radius2 &&
+      if (before != c.region && !inTip(tri) && norm2(this->X(tri[0]) - c.apex) <= radius2 &&
         norm2(this->X(tri[1]) - c.apex) <= radius2 && norm2(this->X(tri[2]) - c.apex) <= radius2 &&
         this->retag(static_cast<int>(t)))
       {
@@ -2873,12 +2990,13 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   }
   // Valid when every new region boundary edge joins two curve points, the wedge joins the
   // region's triangles beyond it, and reaches the apex.
-  std::vector<std::uint8_t> mark(this->M.triangles.size(), 0);
+  std::vector<int> mark;
   for (const auto& [t, before] : retagged)
   {
-    mark[t] = 1;
+    mark.push_back(t);
   }
-  bool joins = retagged.empty(), apex = false;
+  std::sort(mark.begin(), mark.end());
+  bool joins = retagged.empty(), apex = cut; // (an extension has no apex to reach)
   for (const auto& [t, before] : retagged)
   {
     const auto& tri = this->M.triangles[t];
@@ -2888,7 +3006,7 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
       const int n = this->Nbr[t][k];
       if (n >= 0 && this->M.region[n] == c.region)
       {
-        joins = joins || !mark[n];
+        joins = joins || !std::binary_search(mark.begin(), mark.end(), n);
       }
       else
       {
@@ -2896,15 +3014,17 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
       }
     }
   }
-  for (std::size_t t = 0; t < this->M.triangles.size() && ok && !apex; ++t)
+  for (std::size_t i = 0, n = count(); i < n && ok && !apex; ++i)
   {
+    const std::size_t t = at(i);
     const auto& tri = this->M.triangles[t];
     apex = this->M.region[t] == c.region && (tri[0] == apexV || tri[1] == apexV || tri[2] == apexV);
   }
   // ... and both sides are region boundaries (a corner the mesh does not have, e.g. beside a
   // spit of land thinner than the triangles, is not made).
-  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  for (std::size_t i = 0, n = count(); i < n && ok; ++i)
   {
+    const std::size_t t = at(i);
     const auto& tri = this->M.triangles[t];
     for (int k = 0; k < 3 && ok && this->M.region[t] == c.region; ++k)
     {
@@ -2919,12 +3039,14 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
   // quarter of the corner's, none above kKeptLargest.
   if (ok)
   {
-    this->flipToDelaunay();
+    all = this->scope(local, true);
+    this->flipToDelaunay(local ? &all : nullptr);
   }
   const double cosLargest = std::cos(kKeptLargest * kPi / 180.0);
   const double cosSmallest = std::cos(0.25 * c.angle * kPi / 180.0);
-  for (std::size_t t = 0; t < this->M.triangles.size() && ok; ++t)
+  for (std::size_t i = 0, n = count(); i < n && ok; ++i)
   {
+    const std::size_t t = at(i);
     const auto& tri = this->M.triangles[t];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), d = this->X(tri[2]);
     if (norm2(a - c.apex) <= 4.0 * radius2 && this->Live[t])
@@ -2933,7 +3055,8 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
           std::sqrt(std::max({ norm2(b - a) * norm2(d - a),
             norm2(a - b) * norm2(d - b),
             norm2(a - d) * norm2(b - d) }));
-      if (ok && this->M.region[t] == c.region && norm2(a - c.apex) <= radius2 &&
+      // (An extension's wedge is the exterior's: its shape does not matter.)
+      if (ok && !cut && this->M.region[t] == c.region && norm2(a - c.apex) <= radius2 &&
         norm2(b - c.apex) <= radius2 && norm2(d - c.apex) <= radius2 &&
         insidePolygon(outline, (1.0 / 3.0) * (a + b + d)))
       {
@@ -2957,8 +3080,116 @@ bool Refiner::keepCorner(const SharpCorner& c, double& radius2, std::vector<Vec2
     return false;
   }
   this->Recording = false;
-  this->KeptVertices += this->M.points.size() - this->Points0;
+  (cut ? this->TipVertices : this->KeptVertices) += this->M.points.size() - this->Points0;
   return true;
+}
+
+std::size_t Refiner::extendWedges()
+{
+  const std::vector<SharpCorner>& corners = this->P.wedgeCorners;
+  if (corners.empty() || !this->P.regionAt || !this->P.onCurve ||
+    !(this->P.minimumEdgeLength > 0.0))
+  {
+    return 0;
+  }
+  // Each corner looks at the triangles with a vertex within twice its sides' reach of its apex
+  // (keepCorner()'s checks go no farther), found in one sweep over the corners by abscissa;
+  // the triangles an extension makes join the lists.
+  const std::size_t nc = corners.size();
+  std::vector<double> reach2(nc);
+  std::vector<int> order(nc);
+  double most = 0.0;
+  for (std::size_t i = 0; i < nc; ++i)
+  {
+    const double reach =
+      2.0 * std::max(polylineLength(corners[i].first), polylineLength(corners[i].second));
+    reach2[i] = reach * reach;
+    most = std::max(most, reach);
+    order[i] = static_cast<int>(i);
+  }
+  std::sort(order.begin(),
+    order.end(),
+    [&](int a, int b) { return corners[a].apex.x < corners[b].apex.x; });
+  std::vector<std::vector<int>> local(nc);
+  const auto add = [&](std::size_t t)
+  {
+    const auto& tri = this->M.triangles[t];
+    const double xmin = std::min({ this->X(tri[0]).x, this->X(tri[1]).x, this->X(tri[2]).x });
+    const double xmax = std::max({ this->X(tri[0]).x, this->X(tri[1]).x, this->X(tri[2]).x });
+    auto it = std::lower_bound(order.begin(),
+      order.end(),
+      xmin - most,
+      [&](int i, double x) { return corners[i].apex.x < x; });
+    for (; it != order.end() && corners[*it].apex.x <= xmax + most; ++it)
+    {
+      for (int v : tri)
+      {
+        if (norm2(this->X(v) - corners[*it].apex) <= reach2[*it])
+        {
+          local[*it].push_back(static_cast<int>(t));
+          break;
+        }
+      }
+    }
+  };
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    this->poll();
+    add(t);
+  }
+  std::size_t extended = 0;
+  this->Keeping = true;
+  for (std::size_t i = 0; i < nc && this->Inserted < this->Budget; ++i)
+  {
+    const std::size_t before = this->M.triangles.size();
+    const std::size_t points = this->M.points.size();
+    double radius2 = 0.0;
+    std::vector<Vec2> outline;
+    if (this->keepCorner(
+          corners[i], radius2, outline, kWedgeCut * this->P.minimumEdgeLength, &local[i]))
+    {
+      ++extended;
+      this->Inserted += this->M.points.size() - points;
+      for (const Entry& e : this->Journal)
+      {
+        add(static_cast<std::size_t>(e.t)); // (a changed slot may now reach another's disk)
+      }
+      for (std::size_t t = before; t < this->M.triangles.size(); ++t)
+      {
+        add(t);
+      }
+      for (std::vector<int>& list : local)
+      {
+        sortUnique(list);
+      }
+    }
+  }
+  this->Keeping = false;
+  return extended;
+}
+
+// keepCorner()'s triangles: `local` (all when null: an empty list), with, when `changed`, the
+// slots the transaction changed and the triangles it made.
+std::vector<int> Refiner::scope(const std::vector<int>* local, bool changed) const
+{
+  if (!local)
+  {
+    return {};
+  }
+  std::vector<int> list = *local;
+  if (changed && this->Recording)
+  {
+    for (const Entry& e : this->Journal)
+    {
+      list.push_back(e.t);
+    }
+    for (std::size_t t = this->Tri0; t < this->M.triangles.size(); ++t)
+    {
+      list.push_back(static_cast<int>(t));
+    }
+    sortUnique(list);
+  }
+  return list;
 }
 
 std::size_t Refiner::keptBad() const
@@ -3437,6 +3668,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   // 7: the kept corners, in the last pass before its runs (which mend the triangles beside).
   std::vector<double> keptRadius;
   std::vector<std::vector<Vec2>> keptOutline;
+  const std::size_t extendedWedges = last ? base.extendWedges() : 0;
   const std::size_t keptCorners = last ? base.keepCorners(keptRadius, keptOutline) : 0;
   const std::size_t flips = base.flips();
   RegionMesh best = mesh;
@@ -3504,6 +3736,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   }
   (collapsed ? *collapsed : polish).countBad(bestResult);
   bestResult.keptCorners = keptCorners;
+  bestResult.extendedWedges = extendedWedges;
   bestResult.keptCornerRadius = std::move(keptRadius);
   bestResult.keptCornerOutline = std::move(keptOutline);
   bestResult.keptCornerTriangles = (collapsed ? *collapsed : polish).keptBad();
@@ -3561,6 +3794,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     total.badTrianglesLeft = r.badTrianglesLeft;
     total.badTrianglesAtCorners = r.badTrianglesAtCorners;
     total.keptCorners = r.keptCorners;
+    total.extendedWedges += r.extendedWedges;
     total.keptCornerTriangles = r.keptCornerTriangles;
     total.keptCornerRadius = r.keptCornerRadius;
     total.keptCornerOutline = r.keptCornerOutline;

@@ -139,6 +139,41 @@ std::vector<char> atSharpCorners(const Model& model,
 
 constexpr double kKeptReach = 8.0; // a kept corner's sides reach this many finest edges across
 
+// A corner at point i of a ring (where the angle of `region`, on the ring's left or, for -1,
+// on its right, is `angle`), with its sides up to `reach` long (and at most half the ring).
+SharpCorner ringCorner(const Ring& ring, std::size_t i, int region, double angle, double reach)
+{
+  const std::size_t n = ring.points.size();
+  double perimeter = 0.0;
+  for (std::size_t j = 0; j < n; ++j)
+  {
+    perimeter += norm(ring.points[(j + 1) % n] - ring.points[j]);
+  }
+  reach = std::min(0.5 * perimeter, reach);
+  SharpCorner c;
+  c.apex = ring.points[i];
+  c.region = region;
+  c.angle = angle;
+  // `first` has the region on its left: along the ring for the ring's region, back for the
+  // region on its right.
+  const bool forward = region >= 0;
+  for (int way : { 1, -1 })
+  {
+    std::vector<Vec2>& side = (way > 0) == forward ? c.first : c.second;
+    side.push_back(c.apex);
+    double sum = 0.0;
+    for (std::size_t j = 1; j < n && sum < reach; ++j)
+    {
+      const Vec2 q = ring.points[(i + (way > 0 ? j : n - j)) % n];
+      const double l = norm(q - side.back());
+      const Vec2 to = sum + l <= reach ? q : side.back() + ((reach - sum) / l) * (q - side.back());
+      sum = std::min(sum + l, reach);
+      side.push_back(to);
+    }
+  }
+  return c;
+}
+
 // The model's region corners sharper than `minimumAngle` (degrees) where a mesh vertex sits
 // exactly (a junction, or a point the rails stop at: sharper than featureAngle), with their
 // sides up to `reach` long (and at most half their ring): MesherParams::keepSharpCorners.
@@ -158,14 +193,8 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
     for (const Ring& ring : region.rings)
     {
       const std::size_t n = ring.points.size();
-      double perimeter = 0.0;
-      for (std::size_t i = 0; i < n; ++i)
-      {
-        perimeter += norm(ring.points[(i + 1) % n] - ring.points[i]);
-      }
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
-        const Vec2 p = ring.points[i];
         const double angle = ringAngle(ring, i);
         if (!(angle < minimumAngle) ||
           !(junction[ring.nodes[i]] || (featureAngle > 0.0 && angle < featureAngle)))
@@ -174,28 +203,50 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
         }
         // The sides reach where the wedge is about kKeptReach finest edges wide: the layer
         // the refinement kept ends well before that.
-        const double reach = std::min(0.5 * perimeter,
-          kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3));
-        SharpCorner c;
-        c.apex = p;
-        c.region = region.id;
-        c.angle = angle;
-        for (int way : { 1, -1 })
+        corners.push_back(ringCorner(ring,
+          i,
+          region.id,
+          angle,
+          kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3)));
+      }
+    }
+  }
+  return corners;
+}
+
+// The wedges to extend (RefinementParams::wedgeCorners): the wedges of the exterior sharper
+// than `minimumAngle` (degrees) at a point of a region's ring (an inlet of a coast: the
+// region's angle there is above 360 degrees minus it, and `regionOf` gives -1 inside the
+// wedge), with their sides as for sharpCorners().
+std::vector<SharpCorner> exteriorWedges(const Model& model,
+  double minimumAngle,
+  double minimumEdgeLength,
+  const std::function<int(Vec2)>& regionOf)
+{
+  std::vector<SharpCorner> corners;
+  for (const Region& region : model.regions)
+  {
+    for (const Ring& ring : region.rings)
+    {
+      const std::size_t n = ring.points.size();
+      for (std::size_t i = 0; i < n && n >= 3; ++i)
+      {
+        const double angle = 360.0 - ringAngle(ring, i);
+        if (!(angle < minimumAngle))
         {
-          std::vector<Vec2>& side = way > 0 ? c.first : c.second;
-          side.push_back(p);
-          double sum = 0.0;
-          for (std::size_t j = 1; j < n && sum < reach; ++j)
-          {
-            const Vec2 q = ring.points[(i + (way > 0 ? j : n - j)) % n];
-            const double l = norm(q - side.back());
-            const Vec2 to =
-              sum + l <= reach ? q : side.back() + ((reach - sum) / l) * (q - side.back());
-            sum = std::min(sum + l, reach);
-            side.push_back(to);
-          }
+          continue;
         }
-        corners.push_back(std::move(c));
+        const Vec2 p = ring.points[i], u = ring.points[(i + n - 1) % n] - p,
+                   v = ring.points[(i + 1) % n] - p;
+        const Vec2 w = (1.0 / norm(u)) * u + (1.0 / norm(v)) * v; // into the wedge
+        if (norm(w) > 0.0 && regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
+        {
+          corners.push_back(ringCorner(ring,
+            i,
+            -1,
+            angle,
+            kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3)));
+        }
       }
     }
   }
@@ -632,6 +683,10 @@ void refineCompressed(CompressionResult& compressed,
   {
     rp.keptCorners =
       sharpCorners(model, rp.minimumAngle, params.compression.featureAngle, rp.minimumEdgeLength);
+  }
+  if (params.curveRecovery)
+  {
+    rp.wedgeCorners = exteriorWedges(model, rp.minimumAngle, rp.minimumEdgeLength, regionOf);
     rp.curveTolerance = onCurveTolerance;
   }
   const auto separates = [](const BoundaryRails::Chain& c, int left, int right)

@@ -907,6 +907,49 @@ TEST(MesherTest, ASharpWedgeEndsWhereItIsAboutOneFinestEdgeWide)
   }
 }
 
+// A 10-degree inlet of the exterior into a square (a coast's narrow bay, its apex no junction):
+// the last pass extends the exterior's wedge to where it is about one finest edge wide (the
+// compressed mesh closed it where it was 2.6 wide), with every triangle at 30 degrees and the
+// area kept.
+TEST(MesherTest, AnInletOfTheExteriorReachesWhereItIsAboutOneFinestEdgeWide)
+{
+  const double angle = 10.0, pi = 3.14159265358979323846;
+  const double d = 70.0 * std::tan(0.5 * angle * pi / 180.0);
+  strata::RawPolylines inlet;
+  strata_test::addClosedLoop(inlet,
+    { { 0, 0 },
+      { 100, 0 },
+      { 100, 50 - d },
+      { 30, 50 },
+      { 100, 50 + d },
+      { 100, 100 },
+      { 0, 100 } },
+    0);
+  const strata::MesherResult r = strata::triangulate(inlet);
+  ASSERT_GT(r.triangles.size(), 100u);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  // The inlet's axis is outside every triangle from where the inlet is 1.25 finest edges wide.
+  const double from =
+    30.0 + 1.25 * r.summary.finestEdgeLength / (2.0 * std::tan(0.5 * angle * pi / 180.0));
+  for (double x = from; x < 100.0; x += 0.25 * r.summary.finestEdgeLength)
+  {
+    const Vec2 p = Vec2{ x, 50.0 } - r.origin;
+    for (const auto& tri : r.triangles)
+    {
+      const Vec2 a = r.points[tri[0]], b = r.points[tri[1]], c = r.points[tri[2]];
+      ASSERT_FALSE(strata::orient2d(a, b, p) > 0.0 && strata::orient2d(b, c, p) > 0.0 &&
+        strata::orient2d(c, a, p) > 0.0)
+        << "the inlet is closed at x = " << x << ", where it is "
+        << 2.0 * (x - 30.0) * std::tan(0.5 * angle * pi / 180.0) / r.summary.finestEdgeLength
+        << " finest edges wide";
+    }
+  }
+  for (const auto& ra : r.regionAreas)
+  {
+    EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
+  }
+}
+
 // Marmousi's junctions of 3.8 to 20 degrees: with the refinement off (MinimumAngle 0) the
 // triangles below 25 degrees whose smallest angle sits on such a corner are counted; with the
 // defaults the wedges' tips are cut and none is left; a square has none.
