@@ -170,18 +170,26 @@
 //    keep those shapes. The smoothing (5) may slide their sides' vertices along the curves. What
 //    the runs cannot mend beside a wedge is counted by the mesher, with the wedge's triangles, as
 //    what keeping the corner costs.
-// 7'. Inlets (RefinementParams::wedgeCorners; in the last pass, before 7). A wedge of the
-//    exterior sharper than minimumAngle (a coast's narrow bay) ends, in the compressed mesh,
-//    where it is two or three finest edges wide: the probes of 2b need a margin on both sides
-//    of a curve. Where its exterior triangles end farther from the apex than the distance d0
-//    at which the wedge is kWedgeCut minimumEdgeLength wide, it is rebuilt as in 7 from there
-//    (not from the apex): vertices on both sides at d0 and outward at the same distances, the
-//    sides and the cut between the two at d0 made mesh edges, the triangles inside made
-//    exterior (the tip beyond the cut keeps the region around it), with the same checks but
-//    for the wedge's shapes (its triangles are dropped); the runs of 3 then mend the
-//    triangles beside it. Each wedge looks only at the triangles with a vertex within twice
-//    its sides' reach (found for all wedges in one sweep), and its flips of 2 start from
-//    those. (Lake Superior's 10-degree bay: deviation 1.16 -> 0.52 local edges.)
+// 7'. Inlets and lost tips (RefinementParams::wedgeCorners; in the last pass, before 7).
+//    - A wedge of the exterior sharper than minimumAngle (a coast's narrow bay) ends, in the
+//      compressed mesh, where it is two or three finest edges wide: the probes of 2b need a
+//      margin on both sides of a curve. Where its exterior triangles end farther from the
+//      apex than the distance d0 at which the wedge is kWedgeCut minimumEdgeLength wide, it is
+//      rebuilt as in 7 from there (not from the apex): vertices on both sides at d0 and
+//      outward at the same distances, the sides and the cut between the two at d0 made mesh
+//      edges, the triangles inside made exterior (but islands; the tip beyond the cut keeps
+//      the region around it), with the same checks but for the wedge's shapes (its triangles
+//      are dropped). (Lake Superior's 10-degree bay: deviation 1.16 -> 0.52 local edges.)
+//    - A region corner of minimumAngle to 90 degrees whose tip the mesh lost (its region's
+//      triangles have no vertex on the apex and end, on both sides, farther from it than
+//      where the wedge is one minimumEdgeLength wide, plus a margin) is rebuilt as in 7 to its
+//      apex, with rungs two minimumEdgeLength apart at least (nearer ones leave edges too
+//      short for the refinement beside the apex) and all of 7's checks, but not kept: its
+//      triangles are refined as any others (a country's 45-degree cape the compressed mesh
+//      cut 2.3 finest edges short, where its triangles are 2.4 finest edges long).
+//    The runs of 3 then mend the triangles beside them. Each wedge looks only at the
+//    triangles with a vertex within twice its sides' reach (found for all wedges in one
+//    sweep), and its flips of 2 start from those.
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found.
@@ -424,7 +432,8 @@ public:
   /// refiner.
   std::size_t keepCorners(std::vector<double>& radii, std::vector<std::vector<Vec2>>& outlines);
   /// Step 7': the wedges of RefinementParams::wedgeCorners extended to where they are
-  /// kWedgeCut minimumEdgeLength wide. Returns the wedges extended.
+  /// kWedgeCut minimumEdgeLength wide (the exterior's) or rebuilt to their apex (a region's
+  /// lost tip). Returns the wedges changed.
   std::size_t extendWedges();
   /// The vertices keepCorners inserted (on the kept corners' sides) since construction.
   std::size_t keptVertices() const { return this->KeptVertices; }
@@ -2725,6 +2734,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
   // The triangles looked at: all, or `local` and those the transaction changed or made (an
   // extension's: see extendWedges()).
   const bool cut = cutWidth > 0.0;
+  const bool restore = !cut && local; // a corner's tip the mesh lost, rebuilt (not kept)
   std::vector<int> all = this->scope(local, false);
   const std::vector<Vec2>* sides[2] = { &c.first, &c.second };
   const double reach = std::max(polylineLength(c.first), polylineLength(c.second));
@@ -2736,6 +2746,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
   // (And the arcs of every vertex already on a side, which the new ones keep away from.)
   int apexV = -1, apexT = -1;
   int nearest[2] = { -1, -1 };
+  bool reached = false; // a triangle of the region has the apex vertex
   double arc[2] = { HUGE_VAL, HUGE_VAL };
   std::vector<double> onSide[2];
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
@@ -2753,6 +2764,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
       {
         apexV = v;
         apexT = static_cast<int>(t);
+        reached = reached || this->M.region[t] == c.region;
       }
       else if (d2 <= reach * reach)
       {
@@ -2772,24 +2784,28 @@ bool Refiner::keepCorner(const SharpCorner& c,
       }
     }
   }
-  if (nearest[0] < 0 || nearest[1] < 0)
+  if (nearest[0] < 0 || nearest[1] < 0 || (restore && reached))
   {
     return false;
   }
   // An extension starts where the wedge is cutWidth across (d0 from the apex on both sides),
-  // and only where the region's triangles end farther from the apex than that on both sides.
-  const double spacing = kKeptSpacing * this->P.minimumEdgeLength;
+  // and only where the region's triangles end farther from the apex than that on both sides;
+  // a lost tip is rebuilt only where they end farther than where it is one finest edge wide
+  // (nearer, what is lost is narrower than that).
+  const double spacing = (restore ? 2.0 : kKeptSpacing) * this->P.minimumEdgeLength;
   double d0 = 0.0;
-  if (cut)
+  if (cut || restore)
   {
-    d0 = cutWidth / (2.0 * std::sin(0.5 * c.angle * kPi / 180.0));
-    const double across = norm(pointAlong(c.first, d0) - pointAlong(c.second, d0));
+    const double width = cut ? cutWidth : this->P.minimumEdgeLength;
+    const double at = width / (2.0 * std::sin(0.5 * c.angle * kPi / 180.0));
+    const double across = norm(pointAlong(c.first, at) - pointAlong(c.second, at));
     const double gap = 0.5 * std::max(spacing, across);
-    if (!(d0 + gap < std::min(arc[0], arc[1])) || !(across > 0.5 * cutWidth) ||
-      !(across < 1.5 * cutWidth))
+    if (!(at + gap < std::min(arc[0], arc[1])) || !(across > 0.5 * width) ||
+      !(across < 1.5 * width))
     {
       return false;
     }
+    d0 = cut ? at : 0.0;
   }
   this->begin();
   if (!cut && apexV < 0)
@@ -2959,7 +2975,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
     retagged.emplace_back(static_cast<int>(t), this->M.region[t]);
     this->M.region[t] = c.region;
   }
-  // An extension's tip (apex, chord) stays with the region around it (the retag below would
+  // An extension's tip (apex, cut) stays with the region around it (the retag below would
   // give it to the wedge's: the model's region there).
   std::vector<Vec2> tip;
   if (cut && ok)
@@ -3080,7 +3096,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
     return false;
   }
   this->Recording = false;
-  (cut ? this->TipVertices : this->KeptVertices) += this->M.points.size() - this->Points0;
+  (local ? this->TipVertices : this->KeptVertices) += this->M.points.size() - this->Points0;
   return true;
 }
 
@@ -3145,8 +3161,9 @@ std::size_t Refiner::extendWedges()
     const std::size_t points = this->M.points.size();
     double radius2 = 0.0;
     std::vector<Vec2> outline;
-    if (this->keepCorner(
-          corners[i], radius2, outline, kWedgeCut * this->P.minimumEdgeLength, &local[i]))
+    const double cut =
+      corners[i].angle < this->P.minimumAngle ? kWedgeCut * this->P.minimumEdgeLength : 0.0;
+    if (this->keepCorner(corners[i], radius2, outline, cut, &local[i]))
     {
       ++extended;
       this->Inserted += this->M.points.size() - points;

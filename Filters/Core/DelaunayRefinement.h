@@ -122,13 +122,16 @@ struct RefinementParams
   /// triangle, a wedge angle below a quarter of the corner's or above 150 degrees), is left as
   /// the refinement made it (not counted in RefinementResult::keptCorners).
   std::vector<SharpCorner> keptCorners;
-  /// Optional wedges of the exterior (region -1) sharper than minimumAngle, to extend (with
-  /// regionAt and onCurve; see DelaunayRefinement.cpp, step 7'): in the last pass, before the
-  /// kept corners, such a wedge (a coast's narrow inlet) whose exterior triangles end before it
-  /// is one minimumEdgeLength wide is made exterior from there (vertices on its sides at the
-  /// same distances from the apex, the sides and the cut between them mesh edges), and the
-  /// runs then mend the triangles beside it; the tip beyond the cut stays with the region
-  /// around it.
+  /// Optional corners whose wedge the last pass brings back (with regionAt and onCurve; see
+  /// DelaunayRefinement.cpp, step 7'), before the kept corners:
+  /// - a wedge of the exterior (region -1) sharper than minimumAngle (a coast's narrow inlet)
+  ///   whose exterior triangles end before it is one minimumEdgeLength wide is made exterior
+  ///   from there (vertices on its sides at the same distances from the apex, the sides and
+  ///   the cut between them mesh edges); the tip beyond the cut stays with the region around;
+  /// - a region corner of at least minimumAngle whose tip the mesh lost (its region's
+  ///   triangles end farther from the apex than where it is one minimumEdgeLength wide) is
+  ///   rebuilt to its apex as rungs of its region (as a kept corner, but refined after).
+  /// The refinement runs then mend the triangles beside them.
   std::vector<SharpCorner> wedgeCorners;
   /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; a
   /// vertex within four times this (or 1e-7 of a kept corner's side length) of a side is on it.
@@ -175,7 +178,7 @@ struct RefinementResult
   std::size_t collapsedEdges = 0;   ///< short edges collapsed (their vertex merged into the other)
   std::size_t sizeVertices = 0;     ///< vertices splitting edges longer than maximumEdgeLength
   std::size_t keptCorners = 0;      ///< RefinementParams::keptCorners meshed to their apex
-  std::size_t extendedWedges = 0;   ///< RefinementParams::wedgeCorners extended (step 7')
+  std::size_t extendedWedges = 0;   ///< RefinementParams::wedgeCorners brought back (step 7')
   /// Triangles of the kept corners' wedges (see keptCornerOutline) below minimumAngle (left as
   /// the input forces them; not in badTrianglesLeft).
   std::size_t keptCornerTriangles = 0;

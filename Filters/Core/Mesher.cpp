@@ -214,16 +214,20 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
   return corners;
 }
 
-// The wedges to extend (RefinementParams::wedgeCorners): the wedges of the exterior sharper
-// than `minimumAngle` (degrees) at a point of a region's ring (an inlet of a coast: the
-// region's angle there is above 360 degrees minus it, and `regionOf` gives -1 inside the
-// wedge), with their sides as for sharpCorners().
-std::vector<SharpCorner> exteriorWedges(const Model& model,
+constexpr double kLostTipAngle = 90.0; // degrees: region corners below this whose tip is lost
+
+// RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`
+// (degrees) at a point of a region's ring (an inlet of a coast: the region's angle there is
+// above 360 degrees minus it, and `regionOf` gives -1 inside the wedge), and the region
+// corners from `minimumAngle` to kLostTipAngle, with their sides as for sharpCorners().
+std::vector<SharpCorner> wedgeCorners(const Model& model,
   double minimumAngle,
   double minimumEdgeLength,
   const std::function<int(Vec2)>& regionOf)
 {
   std::vector<SharpCorner> corners;
+  const auto reach = [&](double angle)
+  { return kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3); };
   for (const Region& region : model.regions)
   {
     for (const Ring& ring : region.rings)
@@ -231,21 +235,19 @@ std::vector<SharpCorner> exteriorWedges(const Model& model,
       const std::size_t n = ring.points.size();
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
-        const double angle = 360.0 - ringAngle(ring, i);
-        if (!(angle < minimumAngle))
+        const double own = ringAngle(ring, i), outside = 360.0 - own;
+        if (own >= minimumAngle && own < kLostTipAngle)
         {
+          corners.push_back(ringCorner(ring, i, region.id, own, reach(own)));
           continue;
         }
         const Vec2 p = ring.points[i], u = ring.points[(i + n - 1) % n] - p,
                    v = ring.points[(i + 1) % n] - p;
         const Vec2 w = (1.0 / norm(u)) * u + (1.0 / norm(v)) * v; // into the wedge
-        if (norm(w) > 0.0 && regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
+        if (outside < minimumAngle && norm(w) > 0.0 &&
+          regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
         {
-          corners.push_back(ringCorner(ring,
-            i,
-            -1,
-            angle,
-            kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3)));
+          corners.push_back(ringCorner(ring, i, -1, outside, reach(outside)));
         }
       }
     }
@@ -686,7 +688,7 @@ void refineCompressed(CompressionResult& compressed,
   }
   if (params.curveRecovery)
   {
-    rp.wedgeCorners = exteriorWedges(model, rp.minimumAngle, rp.minimumEdgeLength, regionOf);
+    rp.wedgeCorners = wedgeCorners(model, rp.minimumAngle, rp.minimumEdgeLength, regionOf);
     rp.curveTolerance = onCurveTolerance;
   }
   const auto separates = [](const BoundaryRails::Chain& c, int left, int right)

@@ -626,6 +626,77 @@ TEST(DelaunayRefinementTest, ASharpCornerInALargeTriangleHasItsTipCut)
   EXPECT_NEAR(regionAreas(kept).at(1), wedge, 1e-9);
 }
 
+// A 45-degree corner of region 1 (apex (10, 0), sides to (0, +-4.14)) whose tip the mesh gave
+// to region 0 (region 1 ends at x = 6, four finest edges from the apex): with the corner in
+// RefinementParams::wedgeCorners, the last pass rebuilds the tip as rungs of region 1 (step
+// 7'), so region 1 reaches its apex again with its whole area; without it the tip stays lost.
+TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
+{
+  const double h = 10.0 * std::tan(22.5 * kPi / 180.0), y6 = 0.4 * h;
+  RegionMesh lost;
+  lost.points = { { 0, -10 },
+    { 20, -10 },
+    { 20, 10 },
+    { 0, 10 },
+    { 0, -h },
+    { 0, h },
+    { 6, -y6 },
+    { 6, y6 },
+    { 10, 0 } };
+  lost.triangles = { { 4, 6, 7 },
+    { 4, 7, 5 },
+    { 0, 1, 8 },
+    { 1, 2, 8 },
+    { 2, 3, 8 },
+    { 3, 5, 7 },
+    { 3, 7, 8 },
+    { 7, 6, 8 },
+    { 0, 8, 6 },
+    { 0, 6, 4 } };
+  lost.region = { 1, 1, 0, 0, 0, 0, 0, 0, 0, 0 };
+  lost.level.assign(lost.triangles.size(), 0);
+  const auto side = [&](Vec2 q) {
+    return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 1.0;
+  p.onCurve = [&](Vec2 q)
+  {
+    return side(q) || std::fabs(q.x) < 1e-9 || std::fabs(q.x - 20.0) < 1e-9 ||
+      std::fabs(std::fabs(q.y) - 10.0) < 1e-9;
+  };
+  p.regionAt = [&](Vec2 q)
+  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : 0; };
+  strata::SharpCorner corner;
+  corner.apex = { 10, 0 };
+  corner.region = 1;
+  corner.angle = 45.0;
+  corner.first = { { 10, 0 }, { 0, h } };
+  corner.second = { { 10, 0 }, { 0, -h } };
+  RegionMesh without = lost;
+  const RefinementResult before = strata::refineDelaunay(without, middle, p);
+  EXPECT_NEAR(regionAreas(without).at(1), 10.0 * h - 4.0 * y6, 1e-9);
+
+  p.wedgeCorners = { corner };
+  RegionMesh m = lost;
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(r.extendedWedges, 1u);
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h, 1e-9);
+  EXPECT_NEAR(regionAreas(m).at(0), 400.0 - 10.0 * h, 1e-9);
+  bool apex = false;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    for (const int v : m.triangles[t])
+    {
+      apex = apex || (m.region[t] == 1 && m.points[v] == Vec2{ 10, 0 });
+    }
+  }
+  EXPECT_TRUE(apex);
+  // The rungs and the triangles beside them are refined as any others.
+  EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
+}
+
 // A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
