@@ -182,7 +182,7 @@
 //      are dropped). (Lake Superior's 10-degree bay: deviation 1.16 -> 0.52 local edges.)
 //    - A region corner of minimumAngle to 90 degrees whose tip the mesh lost (its region's
 //      triangles have no vertex on the apex and end, on both sides, farther from it than
-//      where the wedge is one minimumEdgeLength wide, plus a margin) is rebuilt as in 7 to its
+//      where the wedge is one minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
 //      apex, with rungs two minimumEdgeLength apart at least (nearer ones leave edges too
 //      short for the refinement beside the apex) and all of 7's checks, but not kept: its
 //      triangles are refined as any others (a country's 45-degree cape the compressed mesh
@@ -239,6 +239,7 @@ constexpr double kSnap = 1e-3;           // 7: a side crossing an edge this clos
                                          // end on the curves passes through that end
 constexpr int kRecoveryFlips = 256;      // 7: flips tried per side edge before conforming
 constexpr double kWedgeCut = 1.0;        // 7': an extended wedge ends this many finest edges wide
+constexpr double kRestoredSpacing = 2.0; // 7': a lost tip's rungs, in minimumEdgeLength at least
 constexpr double kKeptSpacing = 1.0;     // 7: a kept wedge's vertices along its sides, in
                                          // minimumEdgeLength
 constexpr double kKeptLargest = 150.0;   // 7: a kept wedge's triangles have no angle above this
@@ -2792,14 +2793,14 @@ bool Refiner::keepCorner(const SharpCorner& c,
   // and only where the region's triangles end farther from the apex than that on both sides;
   // a lost tip is rebuilt only where they end farther than where it is one finest edge wide
   // (nearer, what is lost is narrower than that).
-  const double spacing = (restore ? 2.0 : kKeptSpacing) * this->P.minimumEdgeLength;
+  const double spacing = (restore ? kRestoredSpacing : kKeptSpacing) * this->P.minimumEdgeLength;
   double d0 = 0.0;
   if (cut || restore)
   {
     const double width = cut ? cutWidth : this->P.minimumEdgeLength;
     const double at = width / (2.0 * std::sin(0.5 * c.angle * kPi / 180.0));
     const double across = norm(pointAlong(c.first, at) - pointAlong(c.second, at));
-    const double gap = 0.5 * std::max(spacing, across);
+    const double gap = 0.5 * std::max(kKeptSpacing * this->P.minimumEdgeLength, across);
     if (!(at + gap < std::min(arc[0], arc[1])) || !(across > 0.5 * width) ||
       !(across < 1.5 * width))
     {
