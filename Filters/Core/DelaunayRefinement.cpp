@@ -3162,8 +3162,14 @@ std::size_t Refiner::extendWedges()
     const std::size_t points = this->M.points.size();
     double radius2 = 0.0;
     std::vector<Vec2> outline;
-    const double cut =
-      corners[i].angle < this->P.minimumAngle ? kWedgeCut * this->P.minimumEdgeLength : 0.0;
+    // The exterior's sharp wedges are cut, the other corners' lost tips rebuilt (as the
+    // mesher lists them; any other is left).
+    const bool sharp = corners[i].angle < this->P.minimumAngle;
+    if (sharp != (corners[i].region < 0))
+    {
+      continue;
+    }
+    const double cut = sharp ? kWedgeCut * this->P.minimumEdgeLength : 0.0;
     if (this->keepCorner(corners[i], radius2, outline, cut, &local[i]))
     {
       ++extended;

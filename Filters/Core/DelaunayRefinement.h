@@ -131,7 +131,8 @@ struct RefinementParams
   /// - a region corner of at least minimumAngle whose tip the mesh lost (its region's
   ///   triangles end farther from the apex than where it is one minimumEdgeLength wide) is
   ///   rebuilt to its apex as rungs of its region (as a kept corner, but refined after).
-  /// The refinement runs then mend the triangles beside them.
+  /// The refinement runs then mend the triangles beside them. Other corners listed (a region's
+  /// sharper than minimumAngle, the exterior's wider) are ignored.
   std::vector<SharpCorner> wedgeCorners;
   /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; a
   /// vertex within four times this (or 1e-7 of a kept corner's side length) of a side is on it.

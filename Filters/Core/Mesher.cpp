@@ -139,6 +139,13 @@ std::vector<char> atSharpCorners(const Model& model,
 
 constexpr double kKeptReach = 8.0; // a kept corner's sides reach this many finest edges across
 
+// How far a corner's sides reach: where its wedge is about kKeptReach finest edges wide (the
+// layer the refinement kept ends well before that).
+double cornerReach(double angle, double minimumEdgeLength)
+{
+  return kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3);
+}
+
 // A corner at point i of a ring (where the angle of `region`, on the ring's left or, for -1,
 // on its right, is `angle`), with its sides up to `reach` long (and at most half the ring).
 SharpCorner ringCorner(const Ring& ring, std::size_t i, int region, double angle, double reach)
@@ -201,13 +208,8 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
         {
           continue;
         }
-        // The sides reach where the wedge is about kKeptReach finest edges wide: the layer
-        // the refinement kept ends well before that.
-        corners.push_back(ringCorner(ring,
-          i,
-          region.id,
-          angle,
-          kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3)));
+        corners.push_back(
+          ringCorner(ring, i, region.id, angle, cornerReach(angle, minimumEdgeLength)));
       }
     }
   }
@@ -226,8 +228,6 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
   const std::function<int(Vec2)>& regionOf)
 {
   std::vector<SharpCorner> corners;
-  const auto reach = [&](double angle)
-  { return kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3); };
   for (const Region& region : model.regions)
   {
     for (const Ring& ring : region.rings)
@@ -238,7 +238,8 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         const double own = ringAngle(ring, i), outside = 360.0 - own;
         if (own >= minimumAngle && own < kLostTipAngle)
         {
-          corners.push_back(ringCorner(ring, i, region.id, own, reach(own)));
+          corners.push_back(
+            ringCorner(ring, i, region.id, own, cornerReach(own, minimumEdgeLength)));
           continue;
         }
         const Vec2 p = ring.points[i], u = ring.points[(i + n - 1) % n] - p,
@@ -247,7 +248,8 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         if (outside < minimumAngle && norm(w) > 0.0 &&
           regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
         {
-          corners.push_back(ringCorner(ring, i, -1, outside, reach(outside)));
+          corners.push_back(
+            ringCorner(ring, i, -1, outside, cornerReach(outside, minimumEdgeLength)));
         }
       }
     }
