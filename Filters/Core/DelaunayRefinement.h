@@ -128,11 +128,14 @@ struct RefinementParams
   ///   whose exterior triangles end before it is one minimumEdgeLength wide is made exterior
   ///   from there (vertices on its sides at the same distances from the apex, the sides and
   ///   the cut between them mesh edges); the tip beyond the cut stays with the region around;
+  /// - a spit of a region sharper than minimumAngle, with the exterior on both sides, whose
+  ///   region's triangles end before it is one minimumEdgeLength wide is extended to there
+  ///   (the same way; the tip beyond the cut stays exterior);
   /// - a region corner of at least minimumAngle whose tip the mesh lost (its region's
   ///   triangles end farther from the apex than where it is one minimumEdgeLength wide) is
   ///   rebuilt to its apex as rungs of its region (as a kept corner, but refined after).
-  /// The refinement runs then mend the triangles beside them. Other corners listed (a region's
-  /// sharper than minimumAngle, the exterior's wider) are ignored.
+  /// The refinement runs then mend the triangles beside them. The exterior's wedges of
+  /// minimumAngle or more are ignored.
   std::vector<SharpCorner> wedgeCorners;
   /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; a
   /// vertex within four times this (or 1e-7 of a kept corner's side length) of a side is on it.

@@ -697,6 +697,78 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
   EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
 }
 
+// A 10-degree spit of region 1 into the exterior (apex (10, 0), sides to (0, +-0.87)) that the
+// mesh ends at x = 6, where it is 2.8 finest edges wide: with the corner in
+// RefinementParams::wedgeCorners, the last pass extends it (step 7') to where it is one finest
+// edge wide (1.43 from the apex), the tip beyond left to the exterior; without it the spit
+// stays short.
+TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
+{
+  const double h = 10.0 * std::tan(5.0 * kPi / 180.0), y6 = 0.4 * h;
+  RegionMesh lost;
+  lost.points = { { 0, -10 },
+    { 20, -10 },
+    { 20, 10 },
+    { 0, 10 },
+    { 0, -h },
+    { 0, h },
+    { 6, -y6 },
+    { 6, y6 },
+    { 10, 0 } };
+  lost.triangles = { { 4, 6, 7 },
+    { 4, 7, 5 },
+    { 0, 1, 8 },
+    { 1, 2, 8 },
+    { 2, 3, 8 },
+    { 3, 5, 7 },
+    { 3, 7, 8 },
+    { 7, 6, 8 },
+    { 0, 8, 6 },
+    { 0, 6, 4 } };
+  lost.region = { 1, 1, -1, -1, -1, -1, -1, -1, -1, -1 };
+  lost.level.assign(lost.triangles.size(), 0);
+  const auto side = [&](Vec2 q) {
+    return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 0.25;
+  p.onCurve = [&](Vec2 q) { return side(q) || std::fabs(q.x) < 1e-9; };
+  p.regionAt = [&](Vec2 q)
+  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
+  strata::SharpCorner spit;
+  spit.apex = { 10, 0 };
+  spit.region = 1;
+  spit.angle = 10.0;
+  spit.first = { { 10, 0 }, { 0, h } };
+  spit.second = { { 10, 0 }, { 0, -h } };
+  const auto reach = [](const RegionMesh& m)
+  {
+    double x = 0.0;
+    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    {
+      for (const int v : m.triangles[t])
+      {
+        x = m.region[t] == 1 ? std::max(x, m.points[v].x) : x;
+      }
+    }
+    return x;
+  };
+  RegionMesh without = lost;
+  const RefinementResult before = strata::refineDelaunay(without, middle, p);
+  EXPECT_NEAR(reach(without), 6.0, 1e-9);
+
+  p.wedgeCorners = { spit };
+  RegionMesh m = lost;
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(r.extendedWedges, 1u);
+  const double d0 = p.minimumEdgeLength / (2.0 * std::sin(5.0 * kPi / 180.0));
+  EXPECT_NEAR(reach(m), 10.0 - d0 * std::cos(5.0 * kPi / 180.0), 1e-6);
+  // Its area: the spit's but for the tip beyond the cut.
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d0 * std::sin(10.0 * kPi / 180.0), 1e-9);
+  EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
+}
+
 // A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of
