@@ -626,15 +626,15 @@ TEST(DelaunayRefinementTest, ASharpCornerInALargeTriangleHasItsTipCut)
   EXPECT_NEAR(regionAreas(kept).at(1), wedge, 1e-9);
 }
 
-// A 45-degree corner of region 1 (apex (10, 0), sides to (0, +-4.14)) whose tip the mesh gave
-// to region 0 (region 1 ends at x = 6, four finest edges from the apex): with the corner in
-// RefinementParams::wedgeCorners, the last pass rebuilds the tip as rungs of region 1 (step
-// 7'), so region 1 reaches its apex again with its whole area; without it the tip stays lost.
-TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
+namespace
 {
-  const double h = 10.0 * std::tan(22.5 * kPi / 180.0), y6 = 0.4 * h;
-  RegionMesh lost;
-  lost.points = { { 0, -10 },
+// A 20 x 20 square around region 1's corner with apex (10, 0) and sides to (0, +-h), whose
+// region 1 ends at x = 6 (the chord (6, +-0.4 h)): the tip and the rest take region `other`.
+RegionMesh cornerCutAt6(double h, int other)
+{
+  const double y6 = 0.4 * h;
+  RegionMesh m;
+  m.points = { { 0, -10 },
     { 20, -10 },
     { 20, 10 },
     { 0, 10 },
@@ -643,7 +643,7 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
     { 6, -y6 },
     { 6, y6 },
     { 10, 0 } };
-  lost.triangles = { { 4, 6, 7 },
+  m.triangles = { { 4, 6, 7 },
     { 4, 7, 5 },
     { 0, 1, 8 },
     { 1, 2, 8 },
@@ -653,11 +653,28 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
     { 7, 6, 8 },
     { 0, 8, 6 },
     { 0, 6, 4 } };
-  lost.region = { 1, 1, 0, 0, 0, 0, 0, 0, 0, 0 };
-  lost.level.assign(lost.triangles.size(), 0);
-  const auto side = [&](Vec2 q) {
-    return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
-  };
+  m.region = { 1, 1, other, other, other, other, other, other, other, other };
+  m.level.assign(m.triangles.size(), 0);
+  return m;
+}
+
+// Whether q lies on a side of cornerCutAt6's corner.
+bool onCornerSide(Vec2 q, double h)
+{
+  return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
+}
+
+} // namespace
+
+// A 45-degree corner of region 1 (apex (10, 0), sides to (0, +-4.14)) whose tip the mesh gave
+// to region 0 (region 1 ends at x = 6, four finest edges from the apex): with the corner in
+// RefinementParams::wedgeCorners, the last pass rebuilds the tip as rungs of region 1 (step
+// 7'), so region 1 reaches its apex again with its whole area; without it the tip stays lost.
+TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
+{
+  const double h = 10.0 * std::tan(22.5 * kPi / 180.0), y6 = 0.4 * h;
+  const RegionMesh lost = cornerCutAt6(h, 0);
+  const auto side = [&](Vec2 q) { return onCornerSide(q, h); };
   RefinementParams p;
   p.minimumEdgeLength = 1.0;
   p.onCurve = [&](Vec2 q)
@@ -704,32 +721,9 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
 // stays short.
 TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
 {
-  const double h = 10.0 * std::tan(5.0 * kPi / 180.0), y6 = 0.4 * h;
-  RegionMesh lost;
-  lost.points = { { 0, -10 },
-    { 20, -10 },
-    { 20, 10 },
-    { 0, 10 },
-    { 0, -h },
-    { 0, h },
-    { 6, -y6 },
-    { 6, y6 },
-    { 10, 0 } };
-  lost.triangles = { { 4, 6, 7 },
-    { 4, 7, 5 },
-    { 0, 1, 8 },
-    { 1, 2, 8 },
-    { 2, 3, 8 },
-    { 3, 5, 7 },
-    { 3, 7, 8 },
-    { 7, 6, 8 },
-    { 0, 8, 6 },
-    { 0, 6, 4 } };
-  lost.region = { 1, 1, -1, -1, -1, -1, -1, -1, -1, -1 };
-  lost.level.assign(lost.triangles.size(), 0);
-  const auto side = [&](Vec2 q) {
-    return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
-  };
+  const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
+  const RegionMesh lost = cornerCutAt6(h, -1);
+  const auto side = [&](Vec2 q) { return onCornerSide(q, h); };
   RefinementParams p;
   p.minimumEdgeLength = 0.25;
   p.onCurve = [&](Vec2 q) { return side(q) || std::fabs(q.x) < 1e-9; };
