@@ -216,6 +216,7 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
   return corners;
 }
 
+constexpr double kWedgeReach = 64.0;   // finest edges: the reach of step 7' wedges at most
 constexpr double kLostTipAngle = 90.0; // degrees: region corners below this whose tip is lost
 
 // RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`
@@ -229,6 +230,9 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
   const std::function<int(Vec2)>& regionOf)
 {
   std::vector<SharpCorner> corners;
+  // (At most kWedgeReach finest edges: each wedge looks at the triangles within twice that.)
+  const auto wedgeReach = [&](double angle)
+  { return std::min(cornerReach(angle, minimumEdgeLength), kWedgeReach * minimumEdgeLength); };
   for (const Region& region : model.regions)
   {
     for (const Ring& ring : region.rings)
@@ -240,7 +244,7 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         if (own >= minimumAngle && own < kLostTipAngle)
         {
           corners.push_back(
-            ringCorner(ring, i, region.id, own, cornerReach(own, minimumEdgeLength)));
+            ringCorner(ring, i, region.id, own, wedgeReach(own)));
           continue;
         }
         const Vec2 p = ring.points[i], u = ring.points[(i + n - 1) % n] - p,
@@ -250,7 +254,7 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
           regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
         {
           corners.push_back(
-            ringCorner(ring, i, -1, outside, cornerReach(outside, minimumEdgeLength)));
+            ringCorner(ring, i, -1, outside, wedgeReach(outside)));
         }
         else if (own < minimumAngle && norm(w) > 0.0)
         {
@@ -262,7 +266,7 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
             regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x }) == -1)
           {
             corners.push_back(
-              ringCorner(ring, i, region.id, own, cornerReach(own, minimumEdgeLength)));
+              ringCorner(ring, i, region.id, own, wedgeReach(own)));
           }
         }
       }
