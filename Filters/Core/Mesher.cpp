@@ -222,7 +222,8 @@ constexpr double kLostTipAngle = 90.0; // degrees: region corners below this who
 // RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`
 // (degrees) at a point of a region's ring (an inlet of a coast: the region's angle there is
 // above 360 degrees minus it, and `regionOf` gives -1 inside the wedge), the region corners
-// sharper than it with the exterior on both sides (spits), and the region corners from
+// sharper than it with the same other region (or the exterior) on both sides (spits, a lens's
+// tips), and the region corners from
 // `minimumAngle` to kLostTipAngle, with their sides as for sharpCorners().
 std::vector<SharpCorner> wedgeCorners(const Model& model,
   double minimumAngle,
@@ -258,15 +259,15 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         }
         else if (own < minimumAngle && norm(w) > 0.0)
         {
-          // A spit of the region into the exterior: the exterior beside both its sides.
+          // A spit of the region into the exterior, or a lens's tip in another region: that
+          // region (or the exterior) beside both its sides.
           const double l = 0.25 * std::min(norm(u), norm(v)),
                        d = 0.5 * l * std::sin(own * kPi / 180.0);
           const Vec2 su = (1.0 / norm(u)) * u, sv = (1.0 / norm(v)) * v;
-          if (regionOf(p + l * su + d * Vec2{ -su.y, su.x }) == -1 &&
-            regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x }) == -1)
+          const int left = regionOf(p + l * su + d * Vec2{ -su.y, su.x });
+          if (left != region.id && left == regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x }))
           {
-            corners.push_back(
-              ringCorner(ring, i, region.id, own, wedgeReach(own)));
+            corners.push_back(ringCorner(ring, i, region.id, own, wedgeReach(own)));
           }
         }
       }
