@@ -184,14 +184,19 @@
 //      both its sides): its region is extended so, the tip beyond the cut left to the
 //      exterior, its triangles refined after; the triangles on its sides take the region at
 //      their centroid whatever their reach, so that no region triangle is left beyond a side
-//      (lake_superior_full's 9-degree spit: deviation 0.80 -> 0.63 local edges). A lens's tip
-//      in another region (that region on both its sides) is extended the same way, its tip
-//      left to that region (Marmousi's lenses: deviation 2.02 -> 0.59 local edges). Where the
+//      (lake_superior_full's 9-degree spit: deviation 0.80 -> 0.63 local edges). So is a
+//      lens's tip in another region, or a layer's pinch-out at a junction (other regions on
+//      both its sides), the tip left to the triangles it had (Marmousi's lenses: deviation
+//      2.02 -> 0.59 local edges; the gulf's 1-degree pinch-outs: 0.63 -> 0.50). Where the
 //      tip is left to a region, vertices of its old mesh may sit a fraction of a
-//      minimumEdgeLength from a cut's end, in triangles no insertion mends: after the runs,
-//      the short edges of bad triangles within one minimumEdgeLength of a cut's end are
-//      collapsed as in 6, before the smoothing moves them apart (Marmousi: 25.9 -> 30.0
-//      degrees).
+//      minimumEdgeLength from the new vertices on the sides, in triangles no insertion mends:
+//      after the runs, the short edges of bad triangles within one minimumEdgeLength of a
+//      side's vertex are collapsed as in 6, before the smoothing moves them apart (Marmousi:
+//      25.9 -> 30.0 degrees; the gulf's first mesh 28.0 -> 30.0).
+//      When the wedges among regions (SharpCorner::amongRegions) still leave a triangle below
+//      minimumAngle, the last pass is made again without them, and kept when its smallest
+//      angle is larger (Marmousi at MaxLevel 7: a 20-degree pinch-out's tip, left to a
+//      neighbour, was a 19.7-degree triangle).
 //    - A region corner of minimumAngle to 90 degrees whose tip the mesh lost (its region's
 //      triangles have no vertex on the apex and end, on both sides, farther from it than
 //      where the wedge is one minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
@@ -236,6 +241,7 @@ namespace
 {
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxWalk = 1 << 16;        // steps of a point location walk
+constexpr std::size_t kNearSearch = 256; // triangles holding() looks at before the whole mesh
 constexpr std::size_t kMaxCavity = 256;  // triangles of a cavity looked at for encroachment
 constexpr double kBoldFloor = 0.25;      // the bold runs' floor, relative to minimumAngle
 constexpr int kBoldRuns = 3;             // bold runs at most
@@ -469,9 +475,9 @@ public:
     }
     return disks;
   }
-  /// The ends of the cuts of 7' (an extended wedge's first vertex on each side), each with a
-  /// disk of one minimumEdgeLength around it.
-  const std::vector<Zone>& cutEnds() const { return this->CutEnds; }
+  /// The vertices on the sides of 7''s extended wedges (from the cut out), each with a disk
+  /// of one minimumEdgeLength around it.
+  const std::vector<Zone>& extendedSides() const { return this->ExtendedSides; }
 
 private:
   Vec2 X(int v) const { return this->M.points[v]; }
@@ -605,6 +611,7 @@ private:
   const Wedge* wedgeOf(const std::array<int, 3>& tri, int region) const;
   int conform(int v, int& t, Vec2 e, double tol, std::vector<int>& path);
   int around(int v, int t, Vec2 e, int& kv) const;
+  int holding(int v, int t) const;
   int nearEdge(const std::array<int, 3>& tri, Vec2 e, double tol) const;
   int walkTo(int v, int t, Vec2 e) const;
   int vertexAt(int v, int& t, Vec2 e, double tol);
@@ -668,7 +675,8 @@ private:
   std::vector<int> Changed;
   RefinementResult R;
   bool Legalize = true;      // false while the kept corners' sides are conformed
-  std::vector<Zone> CutEnds; // cutEnds()
+  std::vector<Zone> ExtendedSides; // extendedSides()
+  mutable int LastAround = -1;     // around()'s last triangle: where holding() looks first
   bool Keeping = false;      // in keepCorners()
   bool KeepRan = false;      // keepCorners() ran (on this mesh)
   struct Wedge
@@ -2526,16 +2534,8 @@ int Refiner::walkTo(int v, int t, Vec2 e) const
 // mesh's border, e outside).
 int Refiner::around(int v, int t, Vec2 e, int& kv) const
 {
-  const auto holds = [&](int x)
-  {
-    const auto& tri = this->M.triangles[x];
-    return tri[0] == v || tri[1] == v || tri[2] == v;
-  };
-  for (std::size_t x = 0; (t < 0 || !holds(t)) && x < this->M.triangles.size(); ++x)
-  {
-    t = holds(static_cast<int>(x)) ? static_cast<int>(x) : t;
-  }
-  if (t < 0 || !holds(t))
+  t = this->holding(v, t);
+  if (t < 0)
   {
     return -1;
   }
@@ -2551,6 +2551,7 @@ int Refiner::around(int v, int t, Vec2 e, int& kv) const
         orient2d(s, this->X(tri[(k + 2) % 3]), e) <= 0.0)
       {
         kv = k;
+        this->LastAround = cur;
         return cur;
       }
       cur = this->Nbr[cur][way == 0 ? k : (k + 2) % 3];
@@ -2558,6 +2559,49 @@ int Refiner::around(int v, int t, Vec2 e, int& kv) const
       {
         break;
       }
+    }
+  }
+  return -1;
+}
+
+// A triangle holding vertex v: t when it does, else one found from t (or, when t is -1, from
+// around()'s last triangle) across at most kNearSearch edges, else the first in the mesh; -1
+// when none. (Step 7's walks start from vertices just made or passed, near the last one.)
+int Refiner::holding(int v, int t) const
+{
+  const auto holds = [&](int x)
+  {
+    const auto& tri = this->M.triangles[x];
+    return tri[0] == v || tri[1] == v || tri[2] == v;
+  };
+  if (t >= 0 && holds(t))
+  {
+    return t;
+  }
+  const int start = t >= 0 ? t : this->LastAround;
+  if (start >= 0 && static_cast<std::size_t>(start) < this->M.triangles.size())
+  {
+    std::vector<int> seen{ start };
+    for (std::size_t i = 0; i < seen.size() && seen.size() < kNearSearch; ++i)
+    {
+      if (holds(seen[i]) && this->Live[seen[i]])
+      {
+        return seen[i];
+      }
+      for (int n : this->Nbr[seen[i]])
+      {
+        if (n >= 0 && std::find(seen.begin(), seen.end(), n) == seen.end())
+        {
+          seen.push_back(n);
+        }
+      }
+    }
+  }
+  for (std::size_t x = 0; x < this->M.triangles.size(); ++x)
+  {
+    if (holds(static_cast<int>(x)))
+    {
+      return static_cast<int>(x);
     }
   }
   return -1;
@@ -2863,7 +2907,18 @@ bool Refiner::keepCorner(const SharpCorner& c,
     const double widening = std::sin(c.angle * kPi / 180.0); // the wedge's width per length
     if (cut)
     {
-      targets.emplace_back(d0, pointAlong(side, d0));
+      // (At a vertex already on the side within a quarter minimumEdgeLength of d0, rather
+      // than beside it.)
+      double at = d0, closest = 0.25 * this->P.minimumEdgeLength;
+      for (double a : onSide[s])
+      {
+        if (std::fabs(a - d0) < closest)
+        {
+          closest = std::fabs(a - d0);
+          at = a;
+        }
+      }
+      targets.emplace_back(at, pointAlong(side, at));
     }
     for (double d = cut ? d0 + std::max(spacing, widening * d0) : spacing;
          spacing > 0.0 && d < arc[s] - 0.5 * spacing;
@@ -3128,7 +3183,10 @@ bool Refiner::keepCorner(const SharpCorner& c,
   for (int s = 0; s < 2 && cut; ++s)
   {
     const double r = this->P.minimumEdgeLength;
-    this->CutEnds.push_back({ this->X(chain[s][0]), r * r });
+    for (int v : chain[s])
+    {
+      this->ExtendedSides.push_back({ this->X(v), r * r });
+    }
   }
   return true;
 }
@@ -3761,9 +3819,10 @@ RefinementResult refinePass(RegionMesh& mesh,
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
-  // 7': the short edges at the cuts' ends, collapsed before the smoothing moves them apart.
-  const std::size_t cutCollapses = last && !base.cutEnds().empty()
-    ? collapseShortEdgesAvoiding(best, params, base.keptDisks(), base.cutEnds())
+  // 7': the short edges beside the extended wedges' sides, collapsed before the smoothing
+  // moves them apart.
+  const std::size_t cutCollapses = last && !base.extendedSides().empty()
+    ? collapseShortEdgesAvoiding(best, params, base.keptDisks(), base.extendedSides())
     : 0;
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
   polish.prepare();
@@ -3801,6 +3860,10 @@ RefinementResult refinePass(RegionMesh& mesh,
     bestResult.delaunayFlips += mender.flips() - flipsBefore;
   }
   (collapsed ? *collapsed : polish).countBad(bestResult);
+  if (last)
+  {
+    bestResult.minimumAngle = (collapsed ? *collapsed : polish).minimumAngle();
+  }
   bestResult.keptCorners = keptCorners;
   bestResult.extendedWedges = extendedWedges;
   bestResult.keptCornerRadius = std::move(keptRadius);
@@ -3840,14 +3903,38 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   }
   RefinementResult total;
   const int passes = params.curvePoint && params.regionAt ? kRecoveryPasses : 1;
+  const bool amongRegions = std::any_of(params.wedgeCorners.begin(),
+    params.wedgeCorners.end(),
+    [](const SharpCorner& c) { return c.amongRegions; });
   for (int pass = 0; pass < passes; ++pass)
   {
-    const RefinementResult r = refinePass(mesh,
-      splitter,
-      params,
-      pass + 1 == passes,
-      passes > 1 && pass + 1 == passes,
-      progress.sub(static_cast<double>(pass) / passes, static_cast<double>(pass + 1) / passes));
+    const bool last = pass + 1 == passes;
+    const ProgressReporter part =
+      progress.sub(static_cast<double>(pass) / passes, static_cast<double>(pass + 1) / passes);
+    std::optional<RegionMesh> before;
+    if (last && amongRegions && params.minimumAngle > 0.0)
+    {
+      before = mesh;
+    }
+    RefinementResult r = refinePass(mesh, splitter, params, last, passes > 1 && last, part);
+    if (before && r.minimumAngle < params.minimumAngle - 1e-9)
+    {
+      // 7': the wedges among regions left a triangle below minimumAngle: the pass again
+      // without them, kept when its smallest angle is larger.
+      RefinementParams without = params;
+      without.wedgeCorners.erase(std::remove_if(without.wedgeCorners.begin(),
+                                   without.wedgeCorners.end(),
+                                   [](const SharpCorner& c) { return c.amongRegions; }),
+        without.wedgeCorners.end());
+      // (Its progress stays at the pass's end: the fractions never go back.)
+      RefinementResult other =
+        refinePass(*before, splitter, without, last, passes > 1, part.sub(1.0, 1.0));
+      if (other.minimumAngle > r.minimumAngle + 1e-9)
+      {
+        mesh = std::move(*before);
+        r = std::move(other);
+      }
+    }
     total.delaunayFlips += r.delaunayFlips;
     total.interiorVertices += r.interiorVertices;
     total.boundaryVertices += r.boundaryVertices;
@@ -3865,6 +3952,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     total.keptCornerRadius = r.keptCornerRadius;
     total.keptCornerOutline = r.keptCornerOutline;
     total.budgetReached = total.budgetReached || r.budgetReached;
+    total.minimumAngle = r.minimumAngle;
   }
   return total;
 }

@@ -26,6 +26,10 @@ struct SharpCorner
   /// The region's two sides, each a polyline from the apex outward along the model's curves:
   /// `first` with the region on its left, `second` with the region on its right.
   std::vector<Vec2> first, second;
+  /// RefinementParams::wedgeCorners: other regions (not only the exterior) beside its sides (a
+  /// lens's tip, a layer's pinch-out at a junction); such corners are extended only when that
+  /// leaves the last pass's smallest angle no smaller.
+  bool amongRegions = false;
 };
 
 /// RefinementParams::regionsNear's answer for a point with no curve nearer than asked.
@@ -183,6 +187,9 @@ struct RefinementResult
   std::size_t sizeVertices = 0;     ///< vertices splitting edges longer than maximumEdgeLength
   std::size_t keptCorners = 0;      ///< RefinementParams::keptCorners meshed to their apex
   std::size_t extendedWedges = 0;   ///< RefinementParams::wedgeCorners brought back (step 7')
+  /// The smallest angle of the region triangles outside the kept corners' wedges after the
+  /// last pass, degrees.
+  double minimumAngle = 180.0;
   /// Triangles of the kept corners' wedges (see keptCornerOutline) below minimumAngle (left as
   /// the input forces them; not in badTrianglesLeft).
   std::size_t keptCornerTriangles = 0;

@@ -216,14 +216,16 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
   return corners;
 }
 
-constexpr double kWedgeReach = 64.0;   // finest edges: the reach of step 7' wedges at most
+// Finest edges: the reach of step 7' wedges at most (a 1-degree pinch-out the mesh ends where it
+// is two finest edges wide, 115 from its apex, is reached).
+constexpr double kWedgeReach = 120.0;
 constexpr double kLostTipAngle = 90.0; // degrees: region corners below this whose tip is lost
 
 // RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`
 // (degrees) at a point of a region's ring (an inlet of a coast: the region's angle there is
 // above 360 degrees minus it, and `regionOf` gives -1 inside the wedge), the region corners
-// sharper than it with the same other region (or the exterior) on both sides (spits, a lens's
-// tips), and the region corners from
+// sharper than it with other regions (or the exterior) on both sides (a spit, a lens's tip, a
+// layer's pinch-out at a junction), and the region corners from
 // `minimumAngle` to kLostTipAngle, with their sides as for sharpCorners().
 std::vector<SharpCorner> wedgeCorners(const Model& model,
   double minimumAngle,
@@ -259,15 +261,17 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         }
         else if (own < minimumAngle && norm(w) > 0.0)
         {
-          // A spit of the region into the exterior, or a lens's tip in another region: that
-          // region (or the exterior) beside both its sides.
+          // A spit of the region into the exterior, a lens's tip in another region, a layer's
+          // pinch-out at a junction: other regions (or the exterior) beside both its sides.
           const double l = 0.25 * std::min(norm(u), norm(v)),
                        d = 0.5 * l * std::sin(own * kPi / 180.0);
           const Vec2 su = (1.0 / norm(u)) * u, sv = (1.0 / norm(v)) * v;
           const int left = regionOf(p + l * su + d * Vec2{ -su.y, su.x });
-          if (left != region.id && left == regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x }))
+          const int right = regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x });
+          if (left != region.id && right != region.id)
           {
             corners.push_back(ringCorner(ring, i, region.id, own, wedgeReach(own)));
+            corners.back().amongRegions = left >= 0 || right >= 0;
           }
         }
       }
