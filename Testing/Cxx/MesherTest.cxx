@@ -951,10 +951,38 @@ TEST(MesherTest, AnInletOfTheExteriorReachesWhereItIsAboutOneFinestEdgeWide)
   }
 }
 
+namespace
+{
+// The region of the triangle holding the point p (model coordinates); -1 outside the mesh.
+int regionAt(const strata::MesherResult& r, Vec2 p)
+{
+  p = p - r.origin;
+  int region = -1;
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const Vec2 a = r.points[r.triangles[t][0]], b = r.points[r.triangles[t][1]],
+               c = r.points[r.triangles[t][2]];
+    if (strata::orient2d(a, b, p) >= 0.0 && strata::orient2d(b, c, p) >= 0.0 &&
+      strata::orient2d(c, a, p) >= 0.0)
+    {
+      region = r.regionId[t];
+    }
+  }
+  return region;
+}
+
+void expectAreasWithinHalfAPercent(const strata::MesherResult& r)
+{
+  for (const auto& ra : r.regionAreas)
+  {
+    EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
+  }
+}
+} // namespace
+
 // A lens of one region inside another (a pinch-out with the same layer above and below) is
-// extended like a spit: its region reaches where it is about one finest edge wide, and the
-// triangles at its cut keep MinimumAngle (a free vertex of the region around, left beside the
-// cut, is collapsed into it).
+// extended like a spit: its region reaches where it is about one finest edge wide, and every
+// triangle keeps MinimumAngle.
 TEST(MesherTest, ALensInsideAnotherRegionReachesWhereItIsAboutOneFinestEdgeWide)
 {
   const double angle = 10.0, pi = 3.14159265358979323846;
@@ -976,27 +1004,12 @@ TEST(MesherTest, ALensInsideAnotherRegionReachesWhereItIsAboutOneFinestEdgeWide)
   ASSERT_LT(from, 70.0);
   for (double x = from; x < 79.0; x += 0.25 * r.summary.finestEdgeLength)
   {
-    const Vec2 p = Vec2{ x, 50.0 } - r.origin;
-    int region = -1;
-    for (std::size_t t = 0; t < r.triangles.size(); ++t)
-    {
-      const Vec2 a = r.points[r.triangles[t][0]], b = r.points[r.triangles[t][1]],
-                 c = r.points[r.triangles[t][2]];
-      if (strata::orient2d(a, b, p) >= 0.0 && strata::orient2d(b, c, p) >= 0.0 &&
-        strata::orient2d(c, a, p) >= 0.0)
-      {
-        region = r.regionId[t];
-      }
-    }
-    ASSERT_EQ(region, 1) << "the lens is lost at x = " << x << ", where it is "
-                         << 2.0 * (x - 20.0) * std::tan(0.5 * angle * pi / 180.0) /
-        r.summary.finestEdgeLength
-                         << " finest edges wide";
+    ASSERT_EQ(regionAt(r, { x, 50.0 }), 1)
+      << "the lens is lost at x = " << x << ", where it is "
+      << 2.0 * (x - 20.0) * std::tan(0.5 * angle * pi / 180.0) / r.summary.finestEdgeLength
+      << " finest edges wide";
   }
-  for (const auto& ra : r.regionAreas)
-  {
-    EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
-  }
+  expectAreasWithinHalfAPercent(r);
 }
 
 // A layer pinching out at a junction (another region above it, a third below) is extended the
@@ -1020,26 +1033,11 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
   ASSERT_LT(from, 60.0);
   for (double s = from; s < 78.0; s += 0.25 * r.summary.finestEdgeLength)
   {
-    const Vec2 p = Vec2{ 20.0 + s * std::cos(half), 50.0 - s * std::sin(half) } - r.origin;
-    int region = -1;
-    for (std::size_t t = 0; t < r.triangles.size(); ++t)
-    {
-      const Vec2 a = r.points[r.triangles[t][0]], b = r.points[r.triangles[t][1]],
-                 c = r.points[r.triangles[t][2]];
-      if (strata::orient2d(a, b, p) >= 0.0 && strata::orient2d(b, c, p) >= 0.0 &&
-        strata::orient2d(c, a, p) >= 0.0)
-      {
-        region = r.regionId[t];
-      }
-    }
-    ASSERT_EQ(region, 1) << "the layer is lost " << s << " from its apex, where it is "
-                         << 2.0 * s * std::tan(half) / r.summary.finestEdgeLength
-                         << " finest edges wide";
+    ASSERT_EQ(regionAt(r, { 20.0 + s * std::cos(half), 50.0 - s * std::sin(half) }), 1)
+      << "the layer is lost " << s << " from its apex, where it is "
+      << 2.0 * s * std::tan(half) / r.summary.finestEdgeLength << " finest edges wide";
   }
-  for (const auto& ra : r.regionAreas)
-  {
-    EXPECT_NEAR(ra.mesh, ra.model, 0.005 * ra.model) << "region " << ra.id;
-  }
+  expectAreasWithinHalfAPercent(r);
 }
 
 // Where extending the pinch-outs among regions leaves a triangle below MinimumAngle (Marmousi at
@@ -1047,11 +1045,10 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
 // without them and the better kept: the smallest angle stays at the bound.
 TEST(MesherTest, ExtendedPinchOutsNeverLeaveATriangleBelowTheMinimumAngle)
 {
-  const strata::RawPolylines marmousi =
-    strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp"));
   strata::MesherParams p;
   p.grid.maxLevel = 7;
-  const strata::MesherResult r = strata::triangulate(marmousi, p);
+  const strata::MesherResult r = strata::triangulate(
+    strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp")), p);
   EXPECT_GE(r.summary.minAngle, p.refinement.minimumAngle - 0.05);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.01);
 }
