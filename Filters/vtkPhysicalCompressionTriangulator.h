@@ -251,7 +251,7 @@ public:
    * degrees below MinimumAngle). In the last pass, wedges sharper than MinimumAngle that the
    * mesh ends early (a coast's narrow bay, a spit, a lens's tip, a layer's pinch-out at a
    * junction) are extended to where they are one finest edge wide (those among regions only
-   * when no triangle is left below MinimumAngle by them).
+   * when no triangle is left below MinimumAngle near them).
    * Region areas within 0.5% on every bundled model (README, Measured). The field data
    * CurveVertices counts the vertices inserted on curves. Default on; off keeps the compressed
    * mesh's regions.

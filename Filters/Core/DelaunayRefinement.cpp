@@ -193,10 +193,11 @@
 //      after the runs, the short edges of bad triangles within one minimumEdgeLength of a
 //      side's vertex are collapsed as in 6, before the smoothing moves them apart (Marmousi:
 //      25.9 -> 30.0 degrees; the gulf's first mesh 28.0 -> 30.0).
-//      When the wedges among regions (SharpCorner::amongRegions) still leave a triangle below
-//      minimumAngle, the last pass is made again without them, and kept when its smallest
-//      angle is larger (Marmousi at MaxLevel 7: a 20-degree pinch-out's tip, left to a
-//      neighbour, was a 19.7-degree triangle).
+//      When a triangle below minimumAngle is left within twice the reach of wedges among
+//      regions (SharpCorner::amongRegions), the last pass is made again without those wedges,
+//      and kept when its smallest angle is larger (Marmousi at MaxLevel 7: a 20-degree
+//      pinch-out's tip, left to a neighbour, was a 19.7-degree triangle; its other wedges stay
+//      extended).
 //    - A region corner of minimumAngle to 90 degrees whose tip the mesh lost (its region's
 //      triangles have no vertex on the apex and end, on both sides, farther from it than
 //      where the wedge is one minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
@@ -436,6 +437,7 @@ public:
   RefinementResult run();
   /// Sets the result's counts of bad triangles (and of those at region corners).
   void countBad(RefinementResult& result) const;
+  std::vector<Vec2> badCentroids() const;
   std::size_t flips() const { return this->R.delaunayFlips; }
   /// Insertions allowed (insertionBudget x the triangles at construction + 1000), and a
   /// smaller allowance for a run that continues another's.
@@ -2399,6 +2401,18 @@ void Refiner::countBad(RefinementResult& result) const
       this->constrained(t, corner) && this->constrained(t, (corner + 2) % 3);
   }
 }
+// The centroids of the triangles countBad() counts.
+std::vector<Vec2> Refiner::badCentroids() const
+{
+  std::vector<Vec2> centroids;
+  for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
+  {
+    const auto& tri = this->M.triangles[t];
+    centroids.push_back((1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])));
+  }
+  return centroids;
+}
+
 // Makes the straight segment from vertex v (of triangle t) to the point e a chain of mesh edges
 // (step 7): every edge it crosses is split where it crosses it, and e is inserted unless a
 // vertex lies within tol of it. Returns the vertex at e (t then holds it), or -1 (a frozen
@@ -3863,6 +3877,10 @@ RefinementResult refinePass(RegionMesh& mesh,
   if (last)
   {
     bestResult.minimumAngle = (collapsed ? *collapsed : polish).minimumAngle();
+    if (bestResult.minimumAngle < params.minimumAngle - 1e-9)
+    {
+      bestResult.badCentroids = (collapsed ? *collapsed : polish).badCentroids();
+    }
   }
   bestResult.keptCorners = keptCorners;
   bestResult.extendedWedges = extendedWedges;
@@ -3919,20 +3937,31 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     RefinementResult r = refinePass(mesh, splitter, params, last, passes > 1 && last, part);
     if (before && r.minimumAngle < params.minimumAngle - 1e-9)
     {
-      // 7': the wedges among regions left a triangle below minimumAngle: the pass again
-      // without them, kept when its smallest angle is larger.
+      // 7': the wedges among regions with a triangle below minimumAngle within twice their
+      // reach are left out of the pass made again, which is kept when its smallest angle is
+      // larger.
       RefinementParams without = params;
-      without.wedgeCorners.erase(std::remove_if(without.wedgeCorners.begin(),
-                                   without.wedgeCorners.end(),
-                                   [](const SharpCorner& c) { return c.amongRegions; }),
-        without.wedgeCorners.end());
-      // (Its progress stays at the pass's end: the fractions never go back.)
-      RefinementResult other =
-        refinePass(*before, splitter, without, last, passes > 1, part.sub(1.0, 1.0));
-      if (other.minimumAngle > r.minimumAngle + 1e-9)
+      const auto nearBad = [&](const SharpCorner& c)
       {
-        mesh = std::move(*before);
-        r = std::move(other);
+        const double reach = 2.0 * std::max(polylineLength(c.first), polylineLength(c.second));
+        return c.amongRegions &&
+          std::any_of(r.badCentroids.begin(),
+            r.badCentroids.end(),
+            [&](Vec2 g) { return norm2(g - c.apex) <= reach * reach; });
+      };
+      without.wedgeCorners.erase(
+        std::remove_if(without.wedgeCorners.begin(), without.wedgeCorners.end(), nearBad),
+        without.wedgeCorners.end());
+      if (without.wedgeCorners.size() < params.wedgeCorners.size())
+      {
+        // (Its progress stays at the pass's end: the fractions never go back.)
+        RefinementResult other =
+          refinePass(*before, splitter, without, last, passes > 1, part.sub(1.0, 1.0));
+        if (other.minimumAngle > r.minimumAngle + 1e-9)
+        {
+          mesh = std::move(*before);
+          r = std::move(other);
+        }
       }
     }
     total.delaunayFlips += r.delaunayFlips;

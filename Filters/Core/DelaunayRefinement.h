@@ -27,8 +27,9 @@ struct SharpCorner
   /// `first` with the region on its left, `second` with the region on its right.
   std::vector<Vec2> first, second;
   /// RefinementParams::wedgeCorners: other regions (not only the exterior) beside its sides (a
-  /// lens's tip, a layer's pinch-out at a junction); such corners are extended only when that
-  /// leaves the last pass's smallest angle no smaller.
+  /// lens's tip, a layer's pinch-out at a junction); such a corner is not extended when that
+  /// leaves a triangle below minimumAngle within twice its reach (the last pass is made again
+  /// without it).
   bool amongRegions = false;
 };
 
@@ -188,8 +189,9 @@ struct RefinementResult
   std::size_t keptCorners = 0;      ///< RefinementParams::keptCorners meshed to their apex
   std::size_t extendedWedges = 0;   ///< RefinementParams::wedgeCorners brought back (step 7')
   /// The smallest angle of the region triangles outside the kept corners' wedges after the
-  /// last pass, degrees.
+  /// last pass, degrees, and the centroids of those still below minimumAngle.
   double minimumAngle = 180.0;
+  std::vector<Vec2> badCentroids;
   /// Triangles of the kept corners' wedges (see keptCornerOutline) below minimumAngle (left as
   /// the input forces them; not in badTrianglesLeft).
   std::size_t keptCornerTriangles = 0;

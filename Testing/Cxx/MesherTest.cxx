@@ -1042,7 +1042,7 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
 
 // Where extending the pinch-outs among regions leaves a triangle below MinimumAngle (Marmousi at
 // MaxLevel 7: a 20-degree tip left to a neighbour, 19.7 degrees), the last pass is made again
-// without them and the better kept: the smallest angle stays at the bound.
+// without those near such a triangle and the better kept: the smallest angle stays at the bound.
 TEST(MesherTest, ExtendedPinchOutsNeverLeaveATriangleBelowTheMinimumAngle)
 {
   strata::MesherParams p;
