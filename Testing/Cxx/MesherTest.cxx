@@ -901,6 +901,28 @@ int regionAt(const strata::MesherResult& r, Vec2 p)
   return region;
 }
 
+// Along the axis of a wedge of `angle` degrees (its apex, a unit direction), from where it is
+// 1.25 finest edges wide to `to` from the apex, every quarter finest edge lies in `region` (-1:
+// outside every triangle).
+void expectRegionAlongWedge(const strata::MesherResult& r,
+  Vec2 apex,
+  Vec2 direction,
+  double angle,
+  double to,
+  int region)
+{
+  const double tangent = std::tan(0.5 * angle * 3.14159265358979323846 / 180.0);
+  const double finest = r.summary.finestEdgeLength;
+  const double from = 1.25 * finest / (2.0 * tangent);
+  ASSERT_LT(from, to);
+  for (double s = from; s < to; s += 0.25 * finest)
+  {
+    ASSERT_EQ(regionAt(r, apex + s * direction), region)
+      << s << " from the apex, where the wedge is " << 2.0 * s * tangent / finest
+      << " finest edges wide";
+  }
+}
+
 void expectAreasWithinHalfAPercent(const strata::MesherResult& r)
 {
   for (const auto& ra : r.regionAreas)
@@ -956,21 +978,7 @@ TEST(MesherTest, AnInletOfTheExteriorReachesWhereItIsAboutOneFinestEdgeWide)
   ASSERT_GT(r.triangles.size(), 100u);
   EXPECT_GE(r.summary.minAngle, 29.95);
   // The inlet's axis is outside every triangle from where the inlet is 1.25 finest edges wide.
-  const double from =
-    30.0 + 1.25 * r.summary.finestEdgeLength / (2.0 * std::tan(0.5 * angle * pi / 180.0));
-  for (double x = from; x < 100.0; x += 0.25 * r.summary.finestEdgeLength)
-  {
-    const Vec2 p = Vec2{ x, 50.0 } - r.origin;
-    for (const auto& tri : r.triangles)
-    {
-      const Vec2 a = r.points[tri[0]], b = r.points[tri[1]], c = r.points[tri[2]];
-      ASSERT_FALSE(strata::orient2d(a, b, p) > 0.0 && strata::orient2d(b, c, p) > 0.0 &&
-        strata::orient2d(c, a, p) > 0.0)
-        << "the inlet is closed at x = " << x << ", where it is "
-        << 2.0 * (x - 30.0) * std::tan(0.5 * angle * pi / 180.0) / r.summary.finestEdgeLength
-        << " finest edges wide";
-    }
-  }
+  expectRegionAlongWedge(r, { 30.0, 50.0 }, { 1.0, 0.0 }, angle, 70.0, -1);
   expectAreasWithinHalfAPercent(r);
 }
 
@@ -993,16 +1001,7 @@ TEST(MesherTest, ALensInsideAnotherRegionReachesWhereItIsAboutOneFinestEdgeWide)
   EXPECT_GE(r.summary.minAngle, 29.95);
   // The lens's axis is inside a triangle of region 1 from where the lens is 1.25 finest edges
   // wide.
-  const double from =
-    20.0 + 1.25 * r.summary.finestEdgeLength / (2.0 * std::tan(0.5 * angle * pi / 180.0));
-  ASSERT_LT(from, 70.0);
-  for (double x = from; x < 79.0; x += 0.25 * r.summary.finestEdgeLength)
-  {
-    ASSERT_EQ(regionAt(r, { x, 50.0 }), 1)
-      << "the lens is lost at x = " << x << ", where it is "
-      << 2.0 * (x - 20.0) * std::tan(0.5 * angle * pi / 180.0) / r.summary.finestEdgeLength
-      << " finest edges wide";
-  }
+  expectRegionAlongWedge(r, { 20.0, 50.0 }, { 1.0, 0.0 }, angle, 59.0, 1);
   expectAreasWithinHalfAPercent(r);
 }
 
@@ -1023,14 +1022,7 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
   EXPECT_GE(r.summary.minAngle, 29.95);
   // Along the layer's axis, region 1 from where the layer is 1.25 finest edges wide.
   const double half = 0.5 * angle * pi / 180.0;
-  const double from = 1.25 * r.summary.finestEdgeLength / (2.0 * std::tan(half));
-  ASSERT_LT(from, 60.0);
-  for (double s = from; s < 78.0; s += 0.25 * r.summary.finestEdgeLength)
-  {
-    ASSERT_EQ(regionAt(r, { 20.0 + s * std::cos(half), 50.0 - s * std::sin(half) }), 1)
-      << "the layer is lost " << s << " from its apex, where it is "
-      << 2.0 * s * std::tan(half) / r.summary.finestEdgeLength << " finest edges wide";
-  }
+  expectRegionAlongWedge(r, { 20.0, 50.0 }, { std::cos(half), -std::sin(half) }, angle, 78.0, 1);
   expectAreasWithinHalfAPercent(r);
 }
 
