@@ -437,7 +437,6 @@ public:
   RefinementResult run();
   /// Sets the result's counts of bad triangles (and of those at region corners).
   void countBad(RefinementResult& result) const;
-  std::vector<Vec2> badCentroids() const;
   std::size_t flips() const { return this->R.delaunayFlips; }
   /// Insertions allowed (insertionBudget x the triangles at construction + 1000), and a
   /// smaller allowance for a run that continues another's.
@@ -2393,26 +2392,18 @@ RefinementResult Refiner::run()
 void Refiner::countBad(RefinementResult& result) const
 {
   result.badTrianglesLeft = result.badTrianglesAtCorners = 0;
+  result.badCentroids.clear();
   for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
   {
     ++result.badTrianglesLeft;
     const int corner = this->smallestCorner(t);
     result.badTrianglesAtCorners +=
       this->constrained(t, corner) && this->constrained(t, (corner + 2) % 3);
-  }
-}
-// The centroids of the triangles countBad() counts.
-std::vector<Vec2> Refiner::badCentroids() const
-{
-  std::vector<Vec2> centroids;
-  for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
-  {
     const auto& tri = this->M.triangles[t];
-    centroids.push_back((1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])));
+    result.badCentroids.push_back(
+      (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])));
   }
-  return centroids;
 }
-
 // Makes the straight segment from vertex v (of triangle t) to the point e a chain of mesh edges
 // (step 7): every edge it crosses is split where it crosses it, and e is inserted unless a
 // vertex lies within tol of it. Returns the vertex at e (t then holds it), or -1 (a frozen
@@ -3877,10 +3868,6 @@ RefinementResult refinePass(RegionMesh& mesh,
   if (last)
   {
     bestResult.minimumAngle = (collapsed ? *collapsed : polish).minimumAngle();
-    if (bestResult.minimumAngle < params.minimumAngle - 1e-9)
-    {
-      bestResult.badCentroids = (collapsed ? *collapsed : polish).badCentroids();
-    }
   }
   bestResult.keptCorners = keptCorners;
   bestResult.extendedWedges = extendedWedges;

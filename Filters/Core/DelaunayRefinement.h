@@ -189,9 +189,9 @@ struct RefinementResult
   std::size_t keptCorners = 0;      ///< RefinementParams::keptCorners meshed to their apex
   std::size_t extendedWedges = 0;   ///< RefinementParams::wedgeCorners brought back (step 7')
   /// The smallest angle of the region triangles outside the kept corners' wedges after the
-  /// last pass, degrees, and the centroids of those still below minimumAngle.
+  /// last pass, degrees.
   double minimumAngle = 180.0;
-  std::vector<Vec2> badCentroids;
+  std::vector<Vec2> badCentroids; ///< the centroids of the badTrianglesLeft
   /// Triangles of the kept corners' wedges (see keptCornerOutline) below minimumAngle (left as
   /// the input forces them; not in badTrianglesLeft).
   std::size_t keptCornerTriangles = 0;
