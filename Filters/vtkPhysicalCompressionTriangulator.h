@@ -25,6 +25,8 @@
  * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
+ * `MaxRelativeBoundaryDeviation` (the largest deviation longer than the finest edge, in
+ * local edge lengths: above 0.5, a piece of a region is lost or added),
  * `MaxRegionAreaError` (relative), `FinestEdgeLength` (model units: MinimumEdgeLength when
  * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
@@ -288,7 +290,13 @@ public:
    * whose region areas are off by more than 0.5%, is made again with ThinLayerRefinement, and
    * the better of the two is kept (the larger smallest angle up to that bound, then the
    * smaller area error); field `ThinLayerMesh` says whether the mesh kept was made with it, a
-   * warning gives both meshes' figures. A mesh that meets the bounds is made once. Then,
+   * warning gives both meshes' figures. With no size set (no MaxLevel, LocalMaxLevel,
+   * MinimumEdgeLength or edge length field), a mesh whose boundary lies more than half the
+   * local edge off the curves where the region there is at least a finest edge wide
+   * (`MaxRelativeBoundaryDeviation` above 0.5: a piece of a layer lost to its neighbour) is
+   * made the other way too, and the second is kept when that deviation is smaller, its
+   * smallest angle is not (up to that bound) and its area error stays within 0.5% (or the
+   * first's). A mesh that meets the bounds is made once. Then,
    * with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length field),
    * CurveRecovery and MinimumAngle 25 or more: a mesh still below 25 degrees where no input
    * corner sharper than 25 forces it (layers about a finest edge thick), or with a region's

@@ -20,17 +20,20 @@
 //   output              exterior triangles dropped, points compacted, quality per triangle,
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation both ways, its
-//                       distances through SegmentGrids first, region areas),
+//                       distances through SegmentGrids first, and over the local edge: the
+//                       curves sampled every half finest edge on two threads, region areas),
 //                       regions keeping less than half their area reported by id, and
 //                       regions cut into more pieces than the model has (pieces joined
 //                       across edges, at least 4 median boundary edges squared)
 // Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
-// min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept) or the 0.5% area
-// bound is
-// made again the other way, with the grid's thin layer refinement if it was made without it
-// (the default: thinLayerRetry, with the optimization) and without it if it was made with it
-// (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger smallest angle, then
-// smaller area error); a warning and Summary::thinLayerMesh say which.
+// min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept), the 0.5% area
+// bound or (with no size set) the boundary bound (Summary::maxRelativeDeviation above 0.5: a
+// piece of a layer lost where it is thicker than the finest edge, which neither the angles
+// nor the areas see) is made again the other way, with the grid's thin layer refinement if it
+// was made without it (the default: thinLayerRetry, with the optimization) and without it if
+// it was made with it (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger
+// smallest angle, then smaller area error; for the boundary, the smaller deviation with
+// neither bound worse); a warning and Summary::thinLayerMesh say which.
 // Nothing is kept between calls.
 #include "Mesher.h"
 
@@ -355,6 +358,14 @@ constexpr double kRetryMarginScale = 0.5;
 // ThinLayerRetry: a first mesh below min(MinimumAngle, this) - kRetryAngleSlack degrees, or
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
+// ... or with a piece of a region lost (or added) that the finest edges could represent: a
+// boundary deviation longer than the finest edge and above this many local edges there
+// (Summary::maxRelativeDeviation; issue 5's bound).
+constexpr double kDeviationBound = 0.5;
+constexpr int kDeviationSamples = 256; // curve -> mesh samples per model segment, at most
+// The curves' segments per block between two progress polls, and from how many on two threads.
+constexpr std::size_t kDeviationBlock = 1024;
+constexpr std::size_t kDeviationThreaded = 2048;
 // ThinLayerRetry with the automatic levels: a mesh below this many degrees (issue 5's bound)
 // off the input's corners, or with a region's area off by more than kAreaBound, is made again
 // with LocalMaxLevel this much finer (see triangulate()); the first mesh has this share of the
@@ -1247,8 +1258,13 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
 
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
   const LargeVector<std::array<int, 3>>& triangles,
-  const LargeVector<int>& region)
+  const LargeVector<int>& region,
+  std::vector<std::vector<int>>* vertices)
 {
+  if (vertices)
+  {
+    vertices->clear();
+  }
   const std::size_t np = points.size();
   // Directed edges of the kept triangles, by start vertex.
   LargeVector<int> start(np + 1, 0);
@@ -1339,11 +1355,13 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
     c.right = edges[e].right;
     const int first = edges[e].a;
     c.points.push_back(points[first]);
+    std::vector<int> ids{ first };
     while (true)
     {
       used[e] = 1;
       const int v = edges[e].b;
       c.points.push_back(points[v]);
+      ids.push_back(v);
       if (v == first || !passes(v))
       {
         break;
@@ -1355,6 +1373,10 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
       }
     }
     curves.push_back(std::move(c));
+    if (vertices)
+    {
+      vertices->push_back(std::move(ids));
+    }
   };
   for (std::size_t e = 0; e < edges.size(); ++e)
   {
@@ -1625,7 +1647,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
 
   // Approximated boundary, vertex classes.
   progress.report(0.95, "writing the mesh");
-  result.boundary = approximatedBoundary(result.points, result.triangles, result.regionId);
+  std::vector<std::vector<int>> boundaryIds;
+  result.boundary =
+    approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds);
   progress.report(0.95, "writing the mesh");
   result.vertexClass.assign(result.points.size(), VertexInterior);
   // The mesh's directed edges: the vertex classes here, the regions' pieces below.
@@ -1653,6 +1677,21 @@ MesherResult triangulateOnce(const RawPolylines& input,
   // Deviation of the approximated boundary from the input curves, both ways.
   {
     double maxVertex = 0.0, maxMeshToModel = 0.0;
+    // The largest deviation against the local edge there (the mean edge length of the
+    // triangles beside the mesh's boundary edge), of the deviations longer than the finest
+    // edge (narrower regions cannot be represented).
+    double maxRelative = 0.0, relativeEdge = 0.0; // and the local edge there, at relativeAt
+    Vec2 relativeAt;
+    const auto relative = [&](double d, double edge, Vec2 at)
+    {
+      if (d > maxRelative * edge)
+      {
+        maxRelative = d / edge;
+        relativeEdge = edge;
+        relativeAt = at;
+      }
+    };
+    const double finest = result.summary.finestEdgeLength;
     // Distances through SegmentGrids (cells the median boundary edge wide) when they tell,
     // within two cells, the same distance as the strip trees.
     const double cell = medianEdge;
@@ -1665,30 +1704,61 @@ MesherResult triangulateOnce(const RawPolylines& input,
       return cells.nearestDistance2(p, r, d2) && d2 < r * r;
     };
     const SegmentGrid railCells = rails.segmentGrid(cell, most(rails.numberOfSegments()));
-    // The distance to the curves, as rails.closest gives it.
-    const auto toCurves = [&](Vec2 p)
+    // The distance to the curves, as rails.closest gives it (with the given scratch).
+    const auto toCurvesWith = [&](Vec2 p, StripTreeScratch& heap)
     {
       double d = 0.0;
       if (near2(railCells, p, d))
       {
         return std::sqrt(d);
       }
-      rails.closest(p, scratch, &d);
+      rails.closest(p, heap, &d);
       return d;
     };
-    std::vector<Vec2> a, b;
-    for (const MesherResult::BoundaryCurve& c : result.boundary)
+    const auto toCurves = [&](Vec2 p) { return toCurvesWith(p, scratch); };
+    // The local edge at the boundary edge from vertex u to v: the mean edge length of the
+    // triangles on its sides.
+    const auto meanEdge = [&](int t)
     {
+      const auto& tri = result.triangles[t];
+      const Vec2 p = result.points[tri[0]], q = result.points[tri[1]], r = result.points[tri[2]];
+      return (norm(q - p) + norm(r - q) + norm(p - r)) / 3.0;
+    };
+    const auto localEdge = [&](int u, int v)
+    {
+      double sum = 0.0;
+      int n = 0;
+      for (const int t : { edges.across(u, v), edges.across(v, u) })
+      {
+        if (t >= 0)
+        {
+          sum += meanEdge(t);
+          ++n;
+        }
+      }
+      return n > 0 ? sum / n : 0.0;
+    };
+    std::vector<Vec2> a, b;
+    std::vector<double> h; // localEdge of segment a -> b
+    for (std::size_t ci = 0; ci < result.boundary.size(); ++ci)
+    {
+      const MesherResult::BoundaryCurve& c = result.boundary[ci];
+      const std::vector<int>& ids = boundaryIds[ci];
       for (std::size_t i = 0; i + 1 < c.points.size(); ++i)
       {
         poll();
         a.push_back(c.points[i]);
         b.push_back(c.points[i + 1]);
+        h.push_back(localEdge(ids[i], ids[i + 1]));
         maxVertex = std::max(maxVertex, toCurves(c.points[i]));
         for (double f : { 0.2, 0.4, 0.6, 0.8 })
         {
           const double d = toCurves(c.points[i] + f * (c.points[i + 1] - c.points[i]));
           maxMeshToModel = std::max(maxMeshToModel, d);
+          if (d > finest && h.back() > 0.0)
+          {
+            relative(d, h.back(), c.points[i] + f * (c.points[i + 1] - c.points[i]));
+          }
         }
       }
       if (!c.points.empty())
@@ -1701,33 +1771,154 @@ MesherResult triangulateOnce(const RawPolylines& input,
     {
       const StripTree tree(a, b);
       const SegmentGrid meshCells(a, b, cell, most(a.size()));
-      // The distance to the mesh's boundary, as the tree gives it.
-      const auto toMesh = [&](Vec2 p)
+      // The curves' samples, on two threads (Parallel.h): per part, a scratch, the largest
+      // distance and the largest relative deviation (merged in order: the same on any
+      // machine).
+      struct Part
       {
-        double d2 = 0.0;
-        return std::sqrt(near2(meshCells, p, d2) ? d2 : tree.nearest(p, scratch).distance2);
+        StripTreeScratch heap;
+        double maxDistance = 0.0, relative = 0.0, edge = 0.0;
+        Vec2 at;
       };
+      std::array<Part, 2> parts;
+      // The distance from p to the mesh's boundary, and the boundary's edge nearest p (-1 when
+      // the cells cannot tell).
+      const auto toMesh = [&](Vec2 p, Part& part, int& segment)
+      {
+        NearestSegment nearest;
+        if (meshCells.nearest(p, 2.0 * cell, nearest) && nearest.segment >= 0)
+        {
+          segment = nearest.segment;
+          return std::sqrt(nearest.distance2);
+        }
+        double d2 = 0.0;
+        if (near2(meshCells, p, d2))
+        {
+          segment = -1;
+          return std::sqrt(d2);
+        }
+        nearest = tree.nearest(p, part.heap);
+        segment = nearest.segment;
+        return std::sqrt(nearest.distance2);
+      };
+      // d, p's distance to the mesh's boundary, against the local edge at the boundary's edge
+      // nearest p; none when p, on a curve of unit normal n, bounds a region narrower than
+      // the finest edge (another curve within half of it from p + n finest / 2 or p - n
+      // finest / 2, i.e. within about the finest edge of p across either region).
+      const auto relativeTo = [&](Vec2 p, Vec2 n, double d, int s, Part& part)
+      {
+        if (s < 0)
+        {
+          s = tree.nearest(p, part.heap).segment;
+        }
+        if (s < 0 || !(h[s] > 0.0) || d <= part.relative * h[s])
+        {
+          return; // (the probes below only for a new largest)
+        }
+        for (const double side : { 0.5 * finest, -0.5 * finest })
+        {
+          if (toCurvesWith(p + side * n, part.heap) < (0.5 - 1e-6) * finest)
+          {
+            return;
+          }
+        }
+        part.relative = d / h[s];
+        part.edge = h[s];
+        part.at = p;
+      };
+      // The curves' segments, then the ends of the open chains (segment -1).
+      std::vector<std::pair<int, int>> segments;
       for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
       {
         const BoundaryRails::Chain& c = rails.chain(static_cast<int>(ci));
-        const std::size_t n = c.points.size();
         for (std::size_t k = 0; k < c.numberOfSegments(); ++k)
         {
-          poll();
-          const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
-          for (double f : { 0.0, 0.2, 0.4, 0.6, 0.8 })
+          segments.emplace_back(static_cast<int>(ci), static_cast<int>(k));
+        }
+        if (!c.closed && !c.points.empty())
+        {
+          segments.emplace_back(static_cast<int>(ci), -1);
+        }
+      }
+      const auto sample = [&](std::size_t from, std::size_t to, int which)
+      {
+        Part& part = parts[which];
+        for (std::size_t e = from; e < to; ++e)
+        {
+          const BoundaryRails::Chain& c = rails.chain(segments[e].first);
+          const std::size_t n = c.points.size();
+          int segment = -1;
+          if (segments[e].second < 0)
           {
-            maxModelToMesh = std::max(maxModelToMesh, toMesh(p + f * (r - p)));
+            const double d = toMesh(c.points.back(), part, segment);
+            part.maxDistance = std::max(part.maxDistance, d);
+            const Vec2 p = n > 1 ? c.points[n - 2] : c.points.back(), r = c.points.back();
+            const double length = norm(r - p);
+            if (d > finest && length > 0.0)
+            {
+              relativeTo(r + 1e-4 * (p - r),
+                (1.0 / length) * Vec2{ p.y - r.y, r.x - p.x },
+                d,
+                segment,
+                part);
+            }
+            continue;
+          }
+          const std::size_t k = static_cast<std::size_t>(segments[e].second);
+          const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
+          const double length = norm(r - p);
+          const Vec2 normal = length > 0.0 ? (1.0 / length) * Vec2{ p.y - r.y, r.x - p.x } : Vec2{};
+          // Five samples per segment, or one every half finest edge (up to kDeviationSamples;
+          // as the quality table samples): a piece of a layer a finest edge long is lost or
+          // kept between them.
+          const int m = static_cast<int>(
+            std::min<double>(kDeviationSamples, std::max(5.0, std::ceil(length / (0.5 * finest)))));
+          for (int j = 0; j < m; ++j)
+          {
+            const double f = static_cast<double>(j) / m;
+            const double d = toMesh(p + f * (r - p), part, segment);
+            part.maxDistance = std::max(part.maxDistance, d);
+            if (d > finest && length > 0.0)
+            {
+              relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, d, segment, part);
+            }
           }
         }
-        if (!c.closed && n > 0)
+      };
+      blockwise(segments.size(),
+        kDeviationBlock,
+        kDeviationThreaded,
+        sample,
+        [&] { progress.report(0.95, "writing the mesh"); });
+      for (const Part& part : parts)
+      {
+        maxModelToMesh = std::max(maxModelToMesh, part.maxDistance);
+        if (part.relative > 0.0)
         {
-          maxModelToMesh = std::max(maxModelToMesh, toMesh(c.points.back()));
+          relative(part.relative * part.edge, part.edge, part.at);
         }
       }
     }
     result.summary.maxBoundaryVertexDistance = maxVertex;
     result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
+    result.summary.maxRelativeDeviation = maxRelative;
+    result.summary.relativeDeviationEdge = relativeEdge;
+    if (maxRelative > kDeviationBound)
+    {
+      char text[512];
+      std::snprintf(text,
+        sizeof(text),
+        "the mesh's boundary lies %.2f local edges (%.6g model units) off the input curves near "
+        "(%.9g, %.9g), more than half the local edge: a piece of a region at least a finest "
+        "edge (%.6g) wide is lost to its neighbour there (or one is added); ThinLayerRefinement "
+        "or a finer LocalMaxLevel usually keeps it",
+        maxRelative,
+        maxRelative * relativeEdge,
+        relativeAt.x + model.origin.x,
+        relativeAt.y + model.origin.y,
+        finest);
+      result.warnings.push_back(text);
+    }
     if (maxVertex > 1e-9 * model.size())
     {
       result.warnings.push_back("a vertex of the approximated boundary lies " +
@@ -1826,10 +2017,13 @@ MesherResult keepOne(MesherResult&& kept,
   return std::move(kept);
 }
 
-// triangulate() without the finer level's retry.
+// triangulate() without the finer level's retry; `automatic`: the user set no size (the finer
+// level's retry may have set LocalMaxLevel), so that a miss of the boundary bound is a reason
+// to make the mesh the other way too.
 MesherResult triangulateWithThinLayers(const RawPolylines& input,
   const MesherParams& params,
-  const ProgressReporter& progress)
+  const ProgressReporter& progress,
+  bool automatic)
 {
   const bool thinFirst = params.grid.thinLayerRefinement;
   if (!thinFirst && !(params.thinLayerRetry && params.compression.optimize))
@@ -1851,9 +2045,12 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   // most models whatever the grid: only the goal is asked of the first mesh.
   const double target =
     std::min(params.refinement.minimumAngle, kThinLayerRetryAngle) - kRetryAngleSlack;
-  if (first.summary.triangles == 0 ||
-    ((!angles || first.summary.minAngle >= target) &&
-      first.summary.maxRegionAreaError <= kAreaBound))
+  const bool boundsMiss =
+    (angles && first.summary.minAngle < target) || first.summary.maxRegionAreaError > kAreaBound;
+  // (The boundary bound only with the automatic sizes: a mesh at the user's sizes is made
+  // once, the miss named in a warning; at MaxLevel 24 the gulf's first mesh misses it.)
+  const bool deviationMiss = automatic && first.summary.maxRelativeDeviation > kDeviationBound;
+  if (first.summary.triangles == 0 || !(boundsMiss || deviationMiss))
   {
     progress.report(1.0, "done");
     return first;
@@ -1864,25 +2061,41 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   second.summary.thinLayerMesh = !thinFirst;
   const double a1 = angles ? std::min(first.summary.minAngle, target) : 0.0;
   const double a2 = angles ? std::min(second.summary.minAngle, target) : 0.0;
-  const bool keepSecond = a2 > a1 + kRetryAngleSlack ||
-    (a2 >= a1 - kRetryAngleSlack &&
-      second.summary.maxRegionAreaError < first.summary.maxRegionAreaError);
+  // (For the boundary bound, the smallest angle away from kept corners too: the better
+  // boundary is not bought with a worse angle.)
+  const bool unforced = params.compression.optimize && params.refinement.minimumAngle > 0.0;
+  const auto unforcedAngle = [&](const MesherResult& r)
+  {
+    return unforced
+      ? std::min(params.keepSharpCorners ? r.summary.minAngleUnforced : r.summary.minAngle, target)
+      : 0.0;
+  };
+  const double u1 = unforcedAngle(first), u2 = unforcedAngle(second);
+  const bool keepSecond =
+    (boundsMiss &&
+      (a2 > a1 + kRetryAngleSlack ||
+        (a2 >= a1 - kRetryAngleSlack &&
+          second.summary.maxRegionAreaError < first.summary.maxRegionAreaError))) ||
+    (deviationMiss && u2 >= u1 - kRetryAngleSlack &&
+      second.summary.maxRelativeDeviation < first.summary.maxRelativeDeviation &&
+      second.summary.maxRegionAreaError <= std::max(first.summary.maxRegionAreaError, kAreaBound));
   MesherResult& kept = keepSecond ? second : first;
   const MesherResult& other = keepSecond ? first : second;
   const auto figures = [](const MesherResult& r)
   {
-    char text[96];
+    char text[160];
     std::snprintf(text,
       sizeof(text),
-      "smallest angle %.2f degrees, area error %.2f%%",
+      "smallest angle %.2f degrees, area error %.2f%%, boundary deviation %.2f local edges",
       r.summary.minAngle,
-      100.0 * r.summary.maxRegionAreaError);
+      100.0 * r.summary.maxRegionAreaError,
+      r.summary.maxRelativeDeviation);
     return std::string(text);
   };
   const char* with = "with ThinLayerRefinement";
   const char* without = "without ThinLayerRefinement";
   kept.warnings.push_back(std::string("the mesh ") + (thinFirst ? with : without) +
-    " missed the angle or area bound (" + figures(first) + "), so a mesh " +
+    " missed the angle, area or boundary bound (" + figures(first) + "), so a mesh " +
     (thinFirst ? without : with) + " was made too (" + figures(second) + "); the " +
     (keepSecond ? "second" : "first") + " one is kept");
   return keepOne(std::move(kept), other, "discarded run", begin, progress);
@@ -1901,7 +2114,7 @@ MesherResult triangulate(const RawPolylines& input,
     !params.grid.targetEdgeLength;
   if (!retry)
   {
-    return triangulateWithThinLayers(input, params, progress);
+    return triangulateWithThinLayers(input, params, progress, automaticSizes(params));
   }
   // Triangles below 25 degrees that no input corner forces sit in layers about a finest edge
   // thick (the aliasing of the paper's Section 6.6), and a region whose area is off by more
@@ -1916,7 +2129,8 @@ MesherResult triangulate(const RawPolylines& input,
   // smallest angle and an area no worse: of the 11 models of random_sections.py 0 24 with a
   // cut layer, 8 are kept whole (+5% triangles over the set).
   const Clock::time_point begin = Clock::now();
-  MesherResult first = triangulateWithThinLayers(input, params, progress.sub(0.0, kFirstShare));
+  MesherResult first = triangulateWithThinLayers(
+    input, params, progress.sub(0.0, kFirstShare), automaticSizes(params));
   const MesherResult::Summary& s1 = first.summary;
   // With kept corners, the smallest angle off them (the wedges keep the input's angles).
   const bool keeps = params.keepSharpCorners;
@@ -1940,8 +2154,8 @@ MesherResult triangulate(const RawPolylines& input,
   {
     finerParams.refinement.curveAreaBudget = kCurveAreaBudget; // as the first mesh's
   }
-  MesherResult finer =
-    triangulateWithThinLayers(input, finerParams, progress.sub(kFirstShare, 1.0));
+  MesherResult finer = triangulateWithThinLayers(
+    input, finerParams, progress.sub(kFirstShare, 1.0), automaticSizes(params));
   const MesherResult::Summary& s2 = finer.summary;
   const bool angleKept =
     angleOf(s2) >= std::min(angleOf(s1), kThinLayerRetryAngle) - kRetryAngleSlack;

@@ -64,8 +64,13 @@ struct MesherParams
   /// keepSharpCorners), or a region's area is off by more than 0.5%, it is made again with
   /// grid.thinLayerRefinement (layers thinner than the cells get cells as wide as they are)
   /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
-  /// smaller area error (Summary::thinLayerMesh, a warning). Meshes that meet the bounds are
-  /// made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
+  /// smaller area error (Summary::thinLayerMesh, a warning). With no size set (maxLevel,
+  /// localMaxLevel, minEdgeLength and targetEdgeLength automatic), a mesh whose
+  /// Summary::maxRelativeDeviation is above 0.5 (a piece of a region at least a finest edge
+  /// wide lost to its neighbour) is made again the same way, and the second kept when that
+  /// deviation is smaller, its smallest angle is not (up to that bound) and its area error
+  /// stays within 0.5% (or the first's). Meshes that meet the bounds are made once, as
+  /// without it. With grid.thinLayerRefinement on, its mesh is the first one and
   /// the mesh without it the second, whatever this says. Then, with the automatic levels
   /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a
   /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
@@ -146,6 +151,14 @@ struct MesherResult
     /// Largest distance (model units) between the approximated boundary and the input curves,
     /// both ways (Hausdorff, sampled at five points per edge / segment).
     double maxBoundaryDeviation = 0.0;
+    /// The largest of the deviations above that are longer than finestEdgeLength and not
+    /// inside a region narrower than it, each divided by the local edge there (the mean edge
+    /// length of the triangles beside the approximated boundary's edge; 0 when there is none):
+    /// above 0.5, a piece of a region that the finest edges could represent is lost or added
+    /// (issue 5's bound is half the local edge).
+    double maxRelativeDeviation = 0.0;
+    /// The local edge (model units) where maxRelativeDeviation is reached (0 when it is 0).
+    double relativeDeviationEdge = 0.0;
     /// Largest distance (model units) of a vertex of the approximated boundary from the input
     /// curves (0 up to rounding when every boundary vertex was placed on a curve).
     double maxBoundaryVertexDistance = 0.0;
@@ -210,10 +223,12 @@ MesherResult triangulate(const RawPolylines& input,
   const ProgressCallback& progress = {});
 
 /// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
-/// triangles with region -1 count as absent.
+/// triangles with region -1 count as absent. With `vertices`, also the ids of each curve's
+/// points.
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
   const LargeVector<std::array<int, 3>>& triangles,
-  const LargeVector<int>& region);
+  const LargeVector<int>& region,
+  std::vector<std::vector<int>>* vertices = nullptr);
 
 } // namespace strata
 

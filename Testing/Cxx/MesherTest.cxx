@@ -761,7 +761,9 @@ TEST(MesherTest, ThinLayerRefinementKeepsAFaultedSectionsBoundaryWithinHalfTheLo
 
 // Marmousi: the grid of ThinLayerRefinement makes the compression leave vertices off the
 // curves (a 9.4-degree mesh), so the mesh without it is made too and kept, as it is better;
-// a warning gives both meshes' figures, and the time of the discarded run is a stage.
+// a warning gives both meshes' figures, and the time of the discarded run is a stage. (Made
+// without it first, the mesh misses the boundary bound, 0.62 local edges, so the mesh with it
+// is made too, and discarded.)
 TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBounds)
 {
   const strata::RawPolylines raw =
@@ -769,7 +771,6 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   strata::MesherParams p;
   const strata::MesherResult plain = strata::triangulate(raw, p);
   EXPECT_FALSE(plain.summary.thinLayerMesh);
-  EXPECT_NE(plain.summary.secondsPerStage.front().first, "discarded run");
   p.grid.thinLayerRefinement = true;
   const strata::MesherResult thin = strata::triangulate(raw, p);
   EXPECT_FALSE(thin.summary.thinLayerMesh);
@@ -777,12 +778,31 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   EXPECT_EQ(thin.points, plain.points);
   EXPECT_EQ(thin.summary.minAngle, plain.summary.minAngle);
   const std::string all = allWarnings(thin);
-  EXPECT_NE(
-    all.find("the mesh with ThinLayerRefinement missed the angle or area bound"), std::string::npos)
+  EXPECT_NE(all.find("the mesh with ThinLayerRefinement missed the angle, area or boundary bound"),
+    std::string::npos)
     << all;
   ASSERT_FALSE(thin.summary.secondsPerStage.empty());
   EXPECT_EQ(thin.summary.secondsPerStage.front().first, "discarded run");
   EXPECT_GE(thin.summary.totalSeconds, thin.summary.secondsPerStage.front().second);
+}
+
+// A region narrower than the finest edge cannot be represented: its loss does not count in
+// the relative deviation. An island 0.2 units wide and 60 long, with no edge shorter than 2:
+// its curve lies up to 50 units from the mesh's boundary.
+TEST(MesherTest, TheRelativeDeviationLeavesOutRegionsNarrowerThanTheFinestEdge)
+{
+  strata::RawPolylines model;
+  const std::vector<Vec2> island = { { 20, 50 }, { 80, 50 }, { 80, 50.2 }, { 20, 50.2 } };
+  strata_test::addClosedLoop(model, { { 0, 0 }, { 100, 0 }, { 100, 100 }, { 0, 100 } }, 0);
+  strata_test::addClosedLoop(model, island, 0);
+  strata_test::addClosedLoop(model, island, 1);
+  strata::MesherParams p;
+  p.grid.minEdgeLength = 2.0;
+  const strata::MesherResult r = strata::triangulate(model, p);
+  ASSERT_EQ(r.unresolvedRegions, std::vector<int>{ 1 });
+  EXPECT_GT(r.summary.maxBoundaryDeviation, 4.0);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_FALSE(r.summary.thinLayerMesh);
 }
 
 // lake_superior at MaxLevel 6 (the paper's count): made once (ThinLayerRetry off) it keeps a
@@ -1274,6 +1294,38 @@ int piecesOf(const strata::MesherResult& r, int region, double floor)
     [&](const std::pair<const int, double>& p) { return p.second >= floor; }));
 }
 } // namespace
+
+// lost_layer_piece_section (a random faulted section): where a fault cuts region 5, a layer
+// 3.7 finest edges thick and thinner than the cells there, the mesh made once gives a piece of
+// it to its neighbour: the boundary 0.82 local edges off its curve, while every angle is at 30
+// degrees and every area within 0.1%, so neither the angle nor the area bound sees it. The
+// relative deviation does (above 0.5), so by default the mesh is made again with
+// ThinLayerRefinement, which keeps the layer, and that one is kept.
+TEST(MesherTest, AMeshThatGivesAPieceOfALayerAwayIsMadeAgainWithTheThinLayerRefinement)
+{
+  const auto [raw, once] = madeOnce("lost_layer_piece_section.vtp");
+  const strata::Model model = strata::buildModel(raw);
+  EXPECT_GE(once.summary.minAngle, 29.95);
+  EXPECT_LE(once.summary.maxRegionAreaError, 0.001);
+  EXPECT_GT(boundaryDeviationOverLocalEdge(model, once), 0.75);
+  EXPECT_GT(once.summary.maxRelativeDeviation, 0.6);
+  EXPECT_GT(once.summary.relativeDeviationEdge, 3.0 * once.summary.finestEdgeLength);
+  EXPECT_FALSE(once.summary.thinLayerMesh);
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_TRUE(d.summary.thinLayerMesh);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, d), 0.5);
+  EXPECT_LE(d.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  EXPECT_LE(d.summary.maxRegionAreaError, 0.001);
+  const std::string all = allWarnings(d);
+  EXPECT_NE(all.find("the mesh without ThinLayerRefinement missed the angle, area or boundary "
+                     "bound (smallest angle 30.0"),
+    std::string::npos)
+    << all;
+  ASSERT_FALSE(d.summary.secondsPerStage.empty());
+  EXPECT_EQ(d.summary.secondsPerStage.front().first, "discarded run");
+}
 
 // A layer the mesh cuts where it is about 1.3 finest edges thick (broken_layer_section.vtp,
 // region 3, one piece in the model; LocalMaxLevel 14 automatic): the mesh made once has it in

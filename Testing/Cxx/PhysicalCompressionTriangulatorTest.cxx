@@ -85,6 +85,7 @@ TEST(PhysicalCompressionTriangulatorTest, meshes_a_model_into_tagged_counter_clo
          "PercentAngles30To60",
          "PercentTriangles30To60",
          "MaxBoundaryDeviation",
+         "MaxRelativeBoundaryDeviation",
          "FinestEdgeLength",
          "Iterations",
          "SecondsTotal",

@@ -297,6 +297,21 @@ class TriangulationTest(unittest.TestCase):
         self.assertEqual(broken.GetNumberOfTuples(), 0)
         self.assertGreaterEqual(field(default, "MinimumAngle"), 29.95)
 
+    def test_a_mesh_that_gives_a_piece_of_a_layer_away_is_made_again(self):
+        # Made once, the mesh gives a piece of a layer 3.7 finest edges thick (where a fault cuts
+        # it) to its neighbour: every angle and area within the bounds, but the boundary more
+        # than half the local edge off its curve. By default the mesh is made again with the
+        # thin layer refinement, which keeps the piece, and that one is kept.
+        default, once = default_and_changed("lost_layer_piece_section.vtp", ThinLayerRetry=0)
+        self.assertGreaterEqual(field(once, "MinimumAngle"), 29.95)
+        self.assertLessEqual(field(once, "MaxRegionAreaError"), 0.005)
+        self.assertGreater(field(once, "MaxRelativeBoundaryDeviation"), 0.6)
+        self.assertEqual(field(once, "ThinLayerMesh"), 0)
+        self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
+        self.assertEqual(field(default, "ThinLayerMesh"), 1)
+        self.assertGreaterEqual(field(default, "MinimumAngle"), 29.95)
+        self.assertLessEqual(field(default, "MaxRegionAreaError"), 0.005)
+
     def test_out_of_range_values_are_refused_naming_the_property(self):
         model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
         mesh = Triangulation(Input=model)

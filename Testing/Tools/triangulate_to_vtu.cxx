@@ -246,7 +246,9 @@ int main(int argc, char** argv)
     const auto& s = r.summary;
     std::printf("{\n \"triangles\": %zu, \"vertices\": %zu,\n \"min_angle\": %.4f, "
                 "\"max_angle\": %.4f,\n \"pct_angles_30_60\": %.2f, \"pct_tris_30_60\": %.2f,\n"
-                " \"max_boundary_deviation\": %.6g, \"max_boundary_vertex_distance\": %.3g,\n"
+                " \"max_boundary_deviation\": %.6g, \"max_relative_deviation\": %.4g,\n"
+                " \"relative_deviation_edge\": %.4g,\n"
+                " \"max_boundary_vertex_distance\": %.3g,\n"
                 " \"max_region_area_error_pct\": %.4f, \"finest_edge_length\": %.6g,\n"
                 " \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
@@ -261,6 +263,8 @@ int main(int argc, char** argv)
       s.percentAngles30to60,
       s.percentTriangles30to60,
       s.maxBoundaryDeviation,
+      s.maxRelativeDeviation,
+      s.relativeDeviationEdge,
       s.maxBoundaryVertexDistance,
       100.0 * s.maxRegionAreaError,
       s.finestEdgeLength,
