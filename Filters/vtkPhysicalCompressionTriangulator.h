@@ -25,8 +25,8 @@
  * position); field data `NumberOfTriangles`, `NumberOfVertices`, `MinimumAngle`,
  * `MaximumAngle`, `PercentAngles30To60` (of all angles), `PercentTriangles30To60` (of
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
- * `MaxRelativeBoundaryDeviation` (the largest deviation longer than the finest edge, in
- * local edge lengths: above 0.5, a piece of a region is lost or added),
+ * `MaxRelativeBoundaryDeviation` (the largest deviation in local edge lengths, outside
+ * regions narrower than the finest edge: above 0.5, a piece of a region is lost or added),
  * `MaxRegionAreaError` (relative), `FinestEdgeLength` (model units: MinimumEdgeLength when
  * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
@@ -294,18 +294,18 @@ public:
    * MinimumEdgeLength or edge length field), a mesh whose boundary lies more than half the
    * local edge off the curves where the region there is at least a finest edge wide
    * (`MaxRelativeBoundaryDeviation` above 0.5: a piece of a layer lost to its neighbour) is
-   * made the other way too, and the second is kept when that deviation is smaller, its
-   * smallest angle is not (up to that bound) and its area error stays within 0.5% (or the
-   * first's). A mesh that meets the bounds is made once. Then,
-   * with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length field),
-   * CurveRecovery and MinimumAngle 25 or more: a mesh still below 25 degrees where no input
-   * corner sharper than 25 forces it (layers about a finest edge thick), or with a region's
-   * area still off by more than 0.5% (a piece of a thin layer lost), or, with MaxLevel
-   * automatic too, with a region cut into more pieces than the model has (`BrokenRegions`), is
-   * made again with LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or,
-   * for the area, when its area error is smaller and its smallest angle is not (up to 30
-   * degrees), or, for the pieces, when fewer regions are cut and neither the smallest angle
-   * nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); with
+   * made again with ThinLayerRefinement around the places that miss (and, when that one
+   * still misses, everywhere), and the one with the smallest deviation is kept as long as its
+   * smallest angle (up to that bound) and its area error (beyond 0.5%) are not worse. A mesh that
+   * meets the bounds is made once. Then, with the automatic levels (LocalMaxLevel -1, no
+   * MinimumEdgeLength, no edge length field), CurveRecovery and MinimumAngle 25 or more: a mesh
+   * still below 25 degrees where no input corner sharper than 25 forces it (layers about a finest
+   * edge thick), or with a region's area still off by more than 0.5% (a piece of a thin layer
+   * lost), or, with MaxLevel automatic too, with a region cut into more pieces than the model has
+   * (`BrokenRegions`), is made again with LocalMaxLevel 4 levels finer, kept when its smallest
+   * angle is larger, or, for the area, when its area error is smaller and its smallest angle is not
+   * (up to 30 degrees), or, for the pieces, when fewer regions are cut and neither the smallest
+   * angle nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); with
    * KeepSharpCorners that smallest angle is the one away from the kept corners (field
    * `MinimumAngleUnforced`). Off: one mesh, as made.
    */

@@ -1063,7 +1063,7 @@ public:
     // (g) thin layers, beyond localMaxLevel: a layer at least the finest leg thick that is
     // thinner than T's legs.
     if (this->ThinLayers && level >= this->P.localMaxLevel && level < this->P.junctionMaxLevel &&
-      !(flags & kEmpty))
+      !(flags & kEmpty) && this->inThinLayerZone(v, level))
     {
       ++this->G.Stats.localTests;
       const double leg = this->G.hypotenuseLength(level) * 0.70710678118654752440;
@@ -1085,6 +1085,23 @@ public:
     }
     // (f) target edge length field.
     return level < this->TargetLevel && this->longerThanTarget(v, level);
+  }
+
+  // Whether (g) may split the triangle of vertices v and level `level` (Grid48Params::
+  // thinLayerZones).
+  bool inThinLayerZone(const std::array<int, 3>& v, int level) const
+  {
+    if (this->P.thinLayerZones.empty())
+    {
+      return true;
+    }
+    const Vec2 g = (1.0 / 3.0) *
+      (this->G.vertexPosition(v[0]) + this->G.vertexPosition(v[1]) + this->G.vertexPosition(v[2]));
+    const double h = this->G.hypotenuseLength(level);
+    return std::any_of(this->P.thinLayerZones.begin(),
+      this->P.thinLayerZones.end(),
+      [&](const Grid48Params::Zone& z)
+      { return norm2(g - z.centre) <= (z.radius + h) * (z.radius + h); });
   }
 
   // Examines every leaf (and every leaf created meanwhile) and splits those that meet a
@@ -1505,6 +1522,16 @@ Grid48Params Grid48::resolveParams(const Model& model, const Grid48Params& param
   {
     throw ParameterError("Grid48: Tolerance " + std::to_string(p.tolerance) +
       " is not a finite value >= 0 (0: automatic)");
+  }
+  for (std::size_t i = 0; i < p.thinLayerZones.size(); ++i)
+  {
+    const Grid48Params::Zone& z = p.thinLayerZones[i];
+    if (!std::isfinite(z.centre.x) || !std::isfinite(z.centre.y) || !(z.radius >= 0.0) ||
+      !std::isfinite(z.radius))
+    {
+      throw ParameterError("Grid48: thin layer zone " + std::to_string(i) + " (radius " +
+        std::to_string(z.radius) + ") is not a finite disk");
+    }
   }
   if (p.tolerance == 0.0)
   {

@@ -176,6 +176,17 @@ struct Grid48Params
   /// BoundaryIndex::thinLayer), so that such a layer gets cells about as wide as it is and
   /// the compression keeps it. Needs localMaxLevel > maxLevel.
   bool thinLayerRefinement = false;
+  /// A disk (model coordinates).
+  struct Zone
+  {
+    Vec2 centre;
+    double radius = 0.0;
+  };
+  /// With thinLayerRefinement: when not empty, it splits only the triangles whose centroid
+  /// lies within a zone (widened by the triangle's hypotenuse): the places where a mesh made
+  /// without it lost a piece of a layer (MesherParams::thinLayerRetry), so that the rest of
+  /// the grid stays as it was. Empty: everywhere.
+  std::vector<Zone> thinLayerZones;
   /// Level cap of junctionRefinement. Range [localMaxLevel, 60], or -1 for
   /// min(localMaxLevel + 8, 60) (hypotenuses 16 times shorter than at localMaxLevel) when
   /// localMaxLevel > maxLevel, else localMaxLevel (no local refinement of any kind). Equal to

@@ -33,7 +33,9 @@
 // was made without it (the default: thinLayerRetry, with the optimization) and without it if
 // it was made with it (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger
 // smallest angle, then smaller area error; for the boundary, the smaller deviation with
-// neither bound worse); a warning and Summary::thinLayerMesh say which.
+// neither bound worse); a warning and Summary::thinLayerMesh say which. After a miss of the
+// boundary bound alone, the thin layers are refined around the misses only (grid.
+// thinLayerZones), and everywhere in a third mesh when that one still misses.
 // Nothing is kept between calls.
 #include "Mesher.h"
 
@@ -359,10 +361,15 @@ constexpr double kRetryMarginScale = 0.5;
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
 // ... or with a piece of a region lost (or added) that the finest edges could represent: a
-// boundary deviation longer than the finest edge and above this many local edges there
-// (Summary::maxRelativeDeviation; issue 5's bound).
+// boundary deviation above this many local edges there, outside regions narrower than the
+// finest edge (Summary::maxRelativeDeviation; issue 5's bound).
 constexpr double kDeviationBound = 0.5;
 constexpr int kDeviationSamples = 256; // curve -> mesh samples per model segment, at most
+constexpr std::size_t kMaxMisses = 1024; // MesherResult::boundaryMisses, at most
+constexpr double kMissSpacing = 2.0;     // ... about this many local edges apart
+// ThinLayerRetry's second mesh after a boundary miss only: the thin layer refinement within
+// this many local edges of the misses (Grid48Params::thinLayerZones).
+constexpr double kMissZone = 8.0;
 // The curves' segments per block between two progress polls, and from how many on two threads.
 constexpr std::size_t kDeviationBlock = 1024;
 constexpr std::size_t kDeviationThreaded = 2048;
@@ -1678,12 +1685,28 @@ MesherResult triangulateOnce(const RawPolylines& input,
   {
     double maxVertex = 0.0, maxMeshToModel = 0.0;
     // The largest deviation against the local edge there (the mean edge length of the
-    // triangles beside the mesh's boundary edge), of the deviations longer than the finest
-    // edge (narrower regions cannot be represented).
+    // triangles beside the mesh's boundary edge), outside regions narrower than the finest
+    // edge (they cannot be represented): the curve points beside one left out, and of the
+    // mesh's boundary only the deviations longer than the finest edge.
     double maxRelative = 0.0, relativeEdge = 0.0; // and the local edge there, at relativeAt
     Vec2 relativeAt;
+    // The places above kDeviationBound, one per stretch of about kMissSpacing local edges.
+    const auto miss = [](std::vector<MesherResult::BoundaryMiss>& misses, Vec2 at, double edge)
+    {
+      if (misses.size() < kMaxMisses &&
+        (misses.empty() ||
+          norm2(misses.back().at - at) > kMissSpacing * kMissSpacing * edge * edge))
+      {
+        misses.push_back({ at, edge });
+      }
+    };
+    std::vector<MesherResult::BoundaryMiss> misses;
     const auto relative = [&](double d, double edge, Vec2 at)
     {
+      if (d > kDeviationBound * edge)
+      {
+        miss(misses, at, edge);
+      }
       if (d > maxRelative * edge)
       {
         maxRelative = d / edge;
@@ -1779,6 +1802,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
         StripTreeScratch heap;
         double maxDistance = 0.0, relative = 0.0, edge = 0.0;
         Vec2 at;
+        std::vector<MesherResult::BoundaryMiss> misses;
       };
       std::array<Part, 2> parts;
       // The distance from p to the mesh's boundary, and the boundary's edge nearest p (-1 when
@@ -1811,9 +1835,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
         {
           s = tree.nearest(p, part.heap).segment;
         }
-        if (s < 0 || !(h[s] > 0.0) || d <= part.relative * h[s])
+        if (s < 0 || !(h[s] > 0.0) || d <= std::min(part.relative, kDeviationBound) * h[s])
         {
-          return; // (the probes below only for a new largest)
+          return; // (the probes below only for a new largest or a miss)
         }
         for (const double side : { 0.5 * finest, -0.5 * finest })
         {
@@ -1822,9 +1846,16 @@ MesherResult triangulateOnce(const RawPolylines& input,
             return;
           }
         }
-        part.relative = d / h[s];
-        part.edge = h[s];
-        part.at = p;
+        if (d > kDeviationBound * h[s])
+        {
+          miss(part.misses, p, h[s]);
+        }
+        if (d > part.relative * h[s])
+        {
+          part.relative = d / h[s];
+          part.edge = h[s];
+          part.at = p;
+        }
       };
       // The curves' segments, then the ends of the open chains (segment -1).
       std::vector<std::pair<int, int>> segments;
@@ -1854,7 +1885,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
             part.maxDistance = std::max(part.maxDistance, d);
             const Vec2 p = n > 1 ? c.points[n - 2] : c.points.back(), r = c.points.back();
             const double length = norm(r - p);
-            if (d > finest && length > 0.0)
+            if (length > 0.0)
             {
               relativeTo(r + 1e-4 * (p - r),
                 (1.0 / length) * Vec2{ p.y - r.y, r.x - p.x },
@@ -1878,7 +1909,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
             const double f = static_cast<double>(j) / m;
             const double d = toMesh(p + f * (r - p), part, segment);
             part.maxDistance = std::max(part.maxDistance, d);
-            if (d > finest && length > 0.0)
+            if (length > 0.0)
             {
               relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, d, segment, part);
             }
@@ -1893,9 +1924,15 @@ MesherResult triangulateOnce(const RawPolylines& input,
       for (const Part& part : parts)
       {
         maxModelToMesh = std::max(maxModelToMesh, part.maxDistance);
-        if (part.relative > 0.0)
+        if (part.relative > 0.0 && part.relative > maxRelative)
         {
-          relative(part.relative * part.edge, part.edge, part.at);
+          maxRelative = part.relative;
+          relativeEdge = part.edge;
+          relativeAt = part.at;
+        }
+        for (const MesherResult::BoundaryMiss& m : part.misses)
+        {
+          miss(misses, m.at, m.edge);
         }
       }
     }
@@ -1903,6 +1940,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
     result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
     result.summary.maxRelativeDeviation = maxRelative;
     result.summary.relativeDeviationEdge = relativeEdge;
+    result.boundaryMisses = std::move(misses);
     if (maxRelative > kDeviationBound)
     {
       char text[512];
@@ -2057,7 +2095,19 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   }
   MesherParams otherParams = params;
   otherParams.grid.thinLayerRefinement = !thinFirst;
-  MesherResult second = triangulateOnce(input, otherParams, progress.sub(0.6, 1.0));
+  // Only the boundary missed: first the thin layers refined around the misses only, the rest
+  // of the grid as the first mesh's (refined everywhere, Marmousi's grid makes the compression
+  // leave vertices off the curves elsewhere); when that mesh still misses the bound, the thin
+  // layers refined everywhere.
+  const bool zoned = !thinFirst && !boundsMiss && !first.boundaryMisses.empty();
+  if (zoned)
+  {
+    for (const MesherResult::BoundaryMiss& m : first.boundaryMisses)
+    {
+      otherParams.grid.thinLayerZones.push_back({ m.at, kMissZone * m.edge });
+    }
+  }
+  MesherResult second = triangulateOnce(input, otherParams, progress.sub(0.6, zoned ? 0.8 : 1.0));
   second.summary.thinLayerMesh = !thinFirst;
   const double a1 = angles ? std::min(first.summary.minAngle, target) : 0.0;
   const double a2 = angles ? std::min(second.summary.minAngle, target) : 0.0;
@@ -2070,17 +2120,20 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
       ? std::min(params.keepSharpCorners ? r.summary.minAngleUnforced : r.summary.minAngle, target)
       : 0.0;
   };
-  const double u1 = unforcedAngle(first), u2 = unforcedAngle(second);
+  // Whether mesh c has the better boundary than k, with neither bound worse.
+  const auto betterBoundary = [&](const MesherResult& c, const MesherResult& k)
+  {
+    return unforcedAngle(c) >= unforcedAngle(k) - kRetryAngleSlack &&
+      c.summary.maxRelativeDeviation < k.summary.maxRelativeDeviation &&
+      c.summary.maxRegionAreaError <= std::max(k.summary.maxRegionAreaError, kAreaBound);
+  };
   const bool keepSecond =
     (boundsMiss &&
       (a2 > a1 + kRetryAngleSlack ||
         (a2 >= a1 - kRetryAngleSlack &&
           second.summary.maxRegionAreaError < first.summary.maxRegionAreaError))) ||
-    (deviationMiss && u2 >= u1 - kRetryAngleSlack &&
-      second.summary.maxRelativeDeviation < first.summary.maxRelativeDeviation &&
-      second.summary.maxRegionAreaError <= std::max(first.summary.maxRegionAreaError, kAreaBound));
-  MesherResult& kept = keepSecond ? second : first;
-  const MesherResult& other = keepSecond ? first : second;
+    (deviationMiss && betterBoundary(second, first));
+  MesherResult* kept = keepSecond ? &second : &first;
   const auto figures = [](const MesherResult& r)
   {
     char text[160];
@@ -2094,11 +2147,35 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   };
   const char* with = "with ThinLayerRefinement";
   const char* without = "without ThinLayerRefinement";
-  kept.warnings.push_back(std::string("the mesh ") + (thinFirst ? with : without) +
+  std::string text = std::string("the mesh ") + (thinFirst ? with : without) +
     " missed the angle, area or boundary bound (" + figures(first) + "), so a mesh " +
-    (thinFirst ? without : with) + " was made too (" + figures(second) + "); the " +
-    (keepSecond ? "second" : "first") + " one is kept");
-  return keepOne(std::move(kept), other, "discarded run", begin, progress);
+    (thinFirst ? without : with) + (zoned ? " around the misses" : "") + " was made too (" +
+    figures(second) + ")";
+  std::optional<MesherResult> third;
+  if (zoned && kept->summary.maxRelativeDeviation > kDeviationBound)
+  {
+    otherParams.grid.thinLayerZones.clear();
+    third = triangulateOnce(input, otherParams, progress.sub(0.8, 1.0));
+    third->summary.thinLayerMesh = true;
+    text += ", then one with it everywhere (" + figures(*third) + ")";
+    if (betterBoundary(*third, *kept))
+    {
+      kept = &*third;
+    }
+  }
+  const char* which = kept == &first ? "first" : (kept == &second ? "second" : "third");
+  text += std::string("; the ") + which + " one is kept";
+  kept->warnings.push_back(text);
+  // The meshes not kept, as stages of the one kept.
+  MesherResult result = std::move(*kept);
+  for (const MesherResult* other : { &first, &second, third ? &*third : nullptr })
+  {
+    if (other && other != kept)
+    {
+      result = keepOne(std::move(result), *other, "discarded run", begin, progress);
+    }
+  }
+  return result;
 }
 
 } // namespace

@@ -67,10 +67,11 @@ struct MesherParams
   /// smaller area error (Summary::thinLayerMesh, a warning). With no size set (maxLevel,
   /// localMaxLevel, minEdgeLength and targetEdgeLength automatic), a mesh whose
   /// Summary::maxRelativeDeviation is above 0.5 (a piece of a region at least a finest edge
-  /// wide lost to its neighbour) is made again the same way, and the second kept when that
-  /// deviation is smaller, its smallest angle is not (up to that bound) and its area error
-  /// stays within 0.5% (or the first's). Meshes that meet the bounds are made once, as
-  /// without it. With grid.thinLayerRefinement on, its mesh is the first one and
+  /// wide lost to its neighbour) is made again with the thin layer refinement around
+  /// MesherResult::boundaryMisses (grid.thinLayerZones) and, when that one still misses,
+  /// everywhere; the one with the smallest deviation is kept as long as its smallest angle
+  /// (up to that bound) and its area error (beyond 0.5%) are not worse. Meshes that meet the bounds
+  /// are made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
   /// the mesh without it the second, whatever this says. Then, with the automatic levels
   /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a
   /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
@@ -141,6 +142,16 @@ struct MesherResult
     std::vector<Vec2> outline;
   };
   std::vector<KeptCorner> keptCorners;
+  /// Where the approximated boundary lies more than half the local edge off the input curves
+  /// (the samples of Summary::maxRelativeDeviation above 0.5, a few local edges apart; local
+  /// coordinates), with the local edge there: MesherParams::thinLayerRetry refines the grid's
+  /// thin layers around them.
+  struct BoundaryMiss
+  {
+    Vec2 at;
+    double edge = 0.0;
+  };
+  std::vector<BoundaryMiss> boundaryMisses;
 
   struct Summary
   {
@@ -151,11 +162,13 @@ struct MesherResult
     /// Largest distance (model units) between the approximated boundary and the input curves,
     /// both ways (Hausdorff, sampled at five points per edge / segment).
     double maxBoundaryDeviation = 0.0;
-    /// The largest of the deviations above that are longer than finestEdgeLength and not
-    /// inside a region narrower than it, each divided by the local edge there (the mean edge
-    /// length of the triangles beside the approximated boundary's edge; 0 when there is none):
-    /// above 0.5, a piece of a region that the finest edges could represent is lost or added
-    /// (issue 5's bound is half the local edge).
+    /// The largest of the deviations above, each divided by the local edge there (the mean
+    /// edge length of the triangles beside the approximated boundary's nearest edge), the
+    /// input curves sampled every half finest edge, leaving out the curve points beside a
+    /// region narrower than finestEdgeLength (issue 5's exemption) and the points of the
+    /// approximated boundary within finestEdgeLength of the curves; 0 when there is none.
+    /// Above 0.5 (issue 5's bound is half the local edge) a piece of a region that the finest
+    /// edges could represent is lost to its neighbour (or one is added).
     double maxRelativeDeviation = 0.0;
     /// The local edge (model units) where maxRelativeDeviation is reached (0 when it is 0).
     double relativeDeviationEdge = 0.0;

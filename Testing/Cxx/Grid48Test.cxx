@@ -650,24 +650,30 @@ TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curv
   expectValidMesh(with, with.extract(), "lens");
 }
 
-TEST(Grid48Test, thin_layer_refinement_gives_a_layer_cells_as_wide_as_it_and_no_finer)
+// A 4 x 4 square cut by two horizontal layers (Loops form): A, from y = -1 to -0.98, is 0.02
+// thick (about three finest legs of the junction level 18), B, from 1 to 1.004, 0.004 (below
+// the finest leg, about 0.0061). Both are far thinner than the legs of localMaxLevel 10 (about
+// 0.097).
+strata::RawPolylines twoThinLayers()
 {
-  // A 4 x 4 square cut by two horizontal layers (Loops form): A is 0.02 thick (about three
-  // finest legs of the junction level 18), B 0.004 (below the finest leg, about 0.0061).
-  // Both are far thinner than the legs of localMaxLevel 10 (about 0.097).
-  const double a0 = -1.0, a1 = -0.98, b0 = 1.0, b1 = 1.004;
   strata::RawPolylines raw;
   raw.form = strata::ModelForm::Loops;
   raw.offsets.push_back(0);
   const auto band = [&](double y0, double y1, int region) {
     strata_test::addClosedLoop(raw, { { -2, y0 }, { 2, y0 }, { 2, y1 }, { -2, y1 } }, region);
   };
-  band(-2, a0, 0);
-  band(a0, a1, 1);
-  band(a1, b0, 2);
-  band(b0, b1, 3);
-  band(b1, 2, 4);
-  const strata::Model model = strata::buildModel(raw);
+  band(-2, -1.0, 0);
+  band(-1.0, -0.98, 1);
+  band(-0.98, 1.0, 2);
+  band(1.0, 1.004, 3);
+  band(1.004, 2, 4);
+  return raw;
+}
+
+TEST(Grid48Test, thin_layer_refinement_gives_a_layer_cells_as_wide_as_it_and_no_finer)
+{
+  const double a0 = -1.0, a1 = -0.98, b0 = 1.0, b1 = 1.004;
+  const strata::Model model = strata::buildModel(twoThinLayers());
   const strata::DistanceField field(model);
   Grid48Params p;
   p.maxLevel = 6;
@@ -738,6 +744,68 @@ TEST(Grid48Test, thin_layer_refinement_gives_a_layer_cells_as_wide_as_it_and_no_
   EXPECT_LE(bWith.finestLevel, p.localMaxLevel);
   EXPECT_EQ(bWith.fineNear, 0);
   expectValidMesh(with, with.extract(), "thin layers");
+}
+
+// Thin layer zones: the refinement beyond localMaxLevel only around them (the places a mesh
+// lost a piece of a layer); a zone away from any thin layer changes nothing.
+TEST(Grid48Test, thin_layer_zones_keep_the_thin_layer_refinement_around_them)
+{
+  const strata::Model model = strata::buildModel(twoThinLayers());
+  const strata::DistanceField field(model);
+  Grid48Params p;
+  p.maxLevel = 6;
+  p.localMaxLevel = 10;
+  const Grid48 without = Grid48::build(model, field, p);
+  p.thinLayerRefinement = true;
+  const Grid48 everywhere = Grid48::build(model, field, p);
+  p.thinLayerZones = { { { -1.0, -0.99 }, 0.25 } };
+  const Grid48 zoned = Grid48::build(model, field, p);
+  // The leaves finer than localMaxLevel along layer A, left and right of the zone.
+  const auto fine = [&](const Grid48& grid, bool nearZone)
+  {
+    int n = 0;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      if (!grid.isLeaf(t) || grid.nodeLevel(t) <= p.localMaxLevel)
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      const Vec2 g = (1.0 / 3.0) *
+        (grid.vertexPosition(v[0]) + grid.vertexPosition(v[1]) + grid.vertexPosition(v[2]));
+      if (std::fabs(g.y + 0.99) < 0.2 && (std::fabs(g.x + 1.0) < 0.3) == nearZone &&
+        std::fabs(g.x) < 1.5)
+      {
+        ++n;
+      }
+    }
+    return n;
+  };
+  ASSERT_GT(fine(everywhere, true), 0);
+  ASSERT_GT(fine(everywhere, false), 0);
+  EXPECT_EQ(fine(without, true), 0);
+  EXPECT_GT(fine(zoned, true), 0);
+  // Beyond the zone, widened by the hypotenuse of localMaxLevel: as without the option.
+  for (int t = 0; t < static_cast<int>(zoned.numberOfNodes()); ++t)
+  {
+    if (zoned.isLeaf(t) && zoned.nodeLevel(t) > p.localMaxLevel)
+    {
+      const auto& v = zoned.nodeVertices(t);
+      const Vec2 g = (1.0 / 3.0) *
+        (zoned.vertexPosition(v[0]) + zoned.vertexPosition(v[1]) + zoned.vertexPosition(v[2]));
+      EXPECT_LT(strata::norm(g - Vec2{ -1.0, -0.99 }), 0.25 + 3.0 * zoned.hypotenuseLength(10))
+        << "leaf " << t;
+    }
+  }
+  EXPECT_LT(zoned.numberOfNodes(), everywhere.numberOfNodes());
+  expectValidMesh(zoned, zoned.extract(), "thin layer zone");
+
+  p.thinLayerZones = { { { 0.0, 0.0 }, 0.1 } };
+  const Grid48 away = Grid48::build(model, field, p);
+  EXPECT_EQ(away.numberOfNodes(), without.numberOfNodes());
+
+  p.thinLayerZones = { { { 0.0, 0.0 }, std::nan("") } };
+  EXPECT_THROW(Grid48::build(model, field, p), strata::ParameterError);
 }
 
 TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
