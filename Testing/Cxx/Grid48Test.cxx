@@ -670,17 +670,37 @@ strata::RawPolylines twoThinLayers()
   return raw;
 }
 
+// The grid of twoThinLayers() at maxLevel 6 and localMaxLevel 10, with `thin` as
+// thinLayerRefinement and the given zones.
+Grid48 twoThinLayersGrid(const strata::Model& model,
+  const strata::DistanceField& field,
+  bool thin,
+  std::vector<Grid48Params::Zone> zones = {})
+{
+  Grid48Params p;
+  p.maxLevel = 6;
+  p.localMaxLevel = 10;
+  p.thinLayerRefinement = thin;
+  p.thinLayerZones = std::move(zones);
+  return Grid48::build(model, field, p);
+}
+
+// The centroid of node t of the grid.
+Vec2 nodeCentroid(const Grid48& grid, int t)
+{
+  const auto& v = grid.nodeVertices(t);
+  return (1.0 / 3.0) *
+    (grid.vertexPosition(v[0]) + grid.vertexPosition(v[1]) + grid.vertexPosition(v[2]));
+}
+
 TEST(Grid48Test, thin_layer_refinement_gives_a_layer_cells_as_wide_as_it_and_no_finer)
 {
   const double a0 = -1.0, a1 = -0.98, b0 = 1.0, b1 = 1.004;
   const strata::Model model = strata::buildModel(twoThinLayers());
   const strata::DistanceField field(model);
-  Grid48Params p;
-  p.maxLevel = 6;
-  p.localMaxLevel = 10;
-  const Grid48 without = Grid48::build(model, field, p);
-  p.thinLayerRefinement = true;
-  const Grid48 with = Grid48::build(model, field, p);
+  const Grid48 without = twoThinLayersGrid(model, field, false);
+  const Grid48 with = twoThinLayersGrid(model, field, true);
+  const Grid48Params& p = with.params();
   ASSERT_EQ(with.params().junctionMaxLevel, 18);
   const double finestLeg = with.hypotenuseLength(18) / std::sqrt(2.0);
   ASSERT_GT(a1 - a0, finestLeg);
@@ -752,32 +772,20 @@ TEST(Grid48Test, thin_layer_zones_keep_the_thin_layer_refinement_around_them)
 {
   const strata::Model model = strata::buildModel(twoThinLayers());
   const strata::DistanceField field(model);
-  Grid48Params p;
-  p.maxLevel = 6;
-  p.localMaxLevel = 10;
-  const Grid48 without = Grid48::build(model, field, p);
-  p.thinLayerRefinement = true;
-  const Grid48 everywhere = Grid48::build(model, field, p);
-  p.thinLayerZones = { { { -1.0, -0.99 }, 0.25 } };
-  const Grid48 zoned = Grid48::build(model, field, p);
-  // The leaves finer than localMaxLevel along layer A, left and right of the zone.
+  const Grid48 without = twoThinLayersGrid(model, field, false);
+  const Grid48 everywhere = twoThinLayersGrid(model, field, true);
+  const Vec2 centre{ -1.0, -0.99 };
+  const Grid48 zoned = twoThinLayersGrid(model, field, true, { { centre, 0.25 } });
+  const int localMaxLevel = zoned.params().localMaxLevel;
+  // The leaves finer than localMaxLevel along layer A, near the zone or away from it.
   const auto fine = [&](const Grid48& grid, bool nearZone)
   {
     int n = 0;
     for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
     {
-      if (!grid.isLeaf(t) || grid.nodeLevel(t) <= p.localMaxLevel)
-      {
-        continue;
-      }
-      const auto& v = grid.nodeVertices(t);
-      const Vec2 g = (1.0 / 3.0) *
-        (grid.vertexPosition(v[0]) + grid.vertexPosition(v[1]) + grid.vertexPosition(v[2]));
-      if (std::fabs(g.y + 0.99) < 0.2 && (std::fabs(g.x + 1.0) < 0.3) == nearZone &&
-        std::fabs(g.x) < 1.5)
-      {
-        ++n;
-      }
+      const Vec2 g = nodeCentroid(grid, t);
+      n += grid.isLeaf(t) && grid.nodeLevel(t) > localMaxLevel && std::fabs(g.y + 0.99) < 0.2 &&
+        (std::fabs(g.x + 1.0) < 0.3) == nearZone && std::fabs(g.x) < 1.5;
     }
     return n;
   };
@@ -785,27 +793,23 @@ TEST(Grid48Test, thin_layer_zones_keep_the_thin_layer_refinement_around_them)
   ASSERT_GT(fine(everywhere, false), 0);
   EXPECT_EQ(fine(without, true), 0);
   EXPECT_GT(fine(zoned, true), 0);
-  // Beyond the zone, widened by the hypotenuse of localMaxLevel: as without the option.
+  // Beyond the zone, widened by a few hypotenuses of localMaxLevel: as without the option.
   for (int t = 0; t < static_cast<int>(zoned.numberOfNodes()); ++t)
   {
-    if (zoned.isLeaf(t) && zoned.nodeLevel(t) > p.localMaxLevel)
+    if (zoned.isLeaf(t) && zoned.nodeLevel(t) > localMaxLevel)
     {
-      const auto& v = zoned.nodeVertices(t);
-      const Vec2 g = (1.0 / 3.0) *
-        (zoned.vertexPosition(v[0]) + zoned.vertexPosition(v[1]) + zoned.vertexPosition(v[2]));
-      EXPECT_LT(strata::norm(g - Vec2{ -1.0, -0.99 }), 0.25 + 3.0 * zoned.hypotenuseLength(10))
+      EXPECT_LT(strata::norm(nodeCentroid(zoned, t) - centre),
+        0.25 + 3.0 * zoned.hypotenuseLength(localMaxLevel))
         << "leaf " << t;
     }
   }
   EXPECT_LT(zoned.numberOfNodes(), everywhere.numberOfNodes());
   expectValidMesh(zoned, zoned.extract(), "thin layer zone");
 
-  p.thinLayerZones = { { { 0.0, 0.0 }, 0.1 } };
-  const Grid48 away = Grid48::build(model, field, p);
+  const Grid48 away = twoThinLayersGrid(model, field, true, { { { 0.0, 0.0 }, 0.1 } });
   EXPECT_EQ(away.numberOfNodes(), without.numberOfNodes());
-
-  p.thinLayerZones = { { { 0.0, 0.0 }, std::nan("") } };
-  EXPECT_THROW(Grid48::build(model, field, p), strata::ParameterError);
+  EXPECT_THROW(twoThinLayersGrid(model, field, true, { { { 0.0, 0.0 }, std::nan("") } }),
+    strata::ParameterError);
 }
 
 TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
