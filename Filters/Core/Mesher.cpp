@@ -1900,8 +1900,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
           const double length = norm(r - p);
           const Vec2 normal = length > 0.0 ? (1.0 / length) * Vec2{ p.y - r.y, r.x - p.x } : Vec2{};
           // Five samples per segment, or one every half finest edge (up to kDeviationSamples;
-          // as the quality table samples): a piece of a layer a finest edge long is lost or
-          // kept between them.
+          // as the quality table samples): only a lost piece shorter than a finest edge may
+          // fall between them.
           const int m = static_cast<int>(
             std::min<double>(kDeviationSamples, std::max(5.0, std::ceil(length / (0.5 * finest)))));
           for (int j = 0; j < m; ++j)
