@@ -98,6 +98,8 @@
 //      of 12). Two curves meeting at a common end within twice T's longest edge at 30 degrees
 //      or more are a junction, not a layer; a pinch-out's tip is not split (the thickness
 //      there goes to 0), so it ends in cells the tip cutting of the refinement can handle.
+//      With Grid48Params::thinLayerZones, only T whose centroid lies within a zone widened by
+//      T's hypotenuse (the Mesher's retry around the places a first mesh lost a layer).
 // "Curves" are the edges of the boundary graph: the distinct boundary segments (a segment
 // shared by two loops in the Loops form is counted once) chained through the nodes where
 // exactly two of them meet; chains break at junctions and curve ends. In the SharedCurves form
