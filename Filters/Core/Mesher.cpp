@@ -1362,13 +1362,20 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
     c.right = edges[e].right;
     const int first = edges[e].a;
     c.points.push_back(points[first]);
-    std::vector<int> ids{ first };
+    std::vector<int> ids;
+    if (vertices)
+    {
+      ids.push_back(first);
+    }
     while (true)
     {
       used[e] = 1;
       const int v = edges[e].b;
       c.points.push_back(points[v]);
-      ids.push_back(v);
+      if (vertices)
+      {
+        ids.push_back(v);
+      }
       if (v == first || !passes(v))
       {
         break;
@@ -1776,11 +1783,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
         maxVertex = std::max(maxVertex, toCurves(c.points[i]));
         for (double f : { 0.2, 0.4, 0.6, 0.8 })
         {
-          const double d = toCurves(c.points[i] + f * (c.points[i + 1] - c.points[i]));
+          const Vec2 q = c.points[i] + f * (c.points[i + 1] - c.points[i]);
+          const double d = toCurves(q);
           maxMeshToModel = std::max(maxMeshToModel, d);
           if (d > finest && h.back() > 0.0)
           {
-            relative(d, h.back(), c.points[i] + f * (c.points[i + 1] - c.points[i]));
+            relative(d, h.back(), q);
           }
         }
       }

@@ -1335,10 +1335,7 @@ TEST(Grid48Test, target_edge_length_field_refines_a_disc_coarsens_elsewhere_and_
         {
           continue;
         }
-        const auto& v = g.nodeVertices(t);
-        const Vec2 c =
-          (1.0 / 3.0) * (g.vertexPosition(v[0]) + g.vertexPosition(v[1]) + g.vertexPosition(v[2])) +
-          m.model.origin;
+        const Vec2 c = nodeCentroid(g, t) + m.model.origin;
         const double d = strata::norm(c - centre);
         (d < radius ? in : out) += d < radius || d > radius + 2.0 * large ? 1 : 0;
       }
