@@ -763,6 +763,96 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
   EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
 }
 
+// The spit of AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide, but with a piece of region 1
+// left inside the tip, cut off from the spit by exterior triangles: a quad from x = 7 to 8.5,
+// just beyond the cut (x = 8.58) by less than the rungs' spacing. The piece is no end of the
+// spit's body: the last pass still extends the spit from x = 6 to the cut, and region 1 is then
+// one piece with the same area as before.
+TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
+{
+  const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
+  RegionMesh m = cornerCutAt6(h, -1);
+  // Points 9 - 12 on the sides at x = 7 and 8.5; the tip triangle (7, 6, 8) and the two
+  // triangles beside its sides are split at them.
+  m.points.insert(
+    m.points.end(), { { 7, -0.3 * h }, { 7, 0.3 * h }, { 8.5, -0.15 * h }, { 8.5, 0.15 * h } });
+  m.triangles = { { 4, 6, 7 },
+    { 4, 7, 5 },
+    { 0, 1, 8 },
+    { 1, 2, 8 },
+    { 2, 3, 8 },
+    { 3, 5, 7 },
+    { 3, 7, 10 },
+    { 3, 10, 12 },
+    { 3, 12, 8 },
+    { 7, 6, 9 },
+    { 7, 9, 10 },
+    { 10, 9, 11 },
+    { 10, 11, 12 },
+    { 12, 11, 8 },
+    { 0, 8, 11 },
+    { 0, 11, 9 },
+    { 0, 9, 6 },
+    { 0, 6, 4 } };
+  m.region.assign(m.triangles.size(), -1);
+  m.region[0] = m.region[1] = m.region[11] = m.region[12] = 1;
+  m.level.assign(m.triangles.size(), 0);
+  expectValid(m);
+  RefinementParams p;
+  p.minimumEdgeLength = 0.25;
+  p.onCurve = [&](Vec2 q) { return onCornerSide(q, h) || std::fabs(q.x) < 1e-9; };
+  p.regionAt = [&](Vec2 q)
+  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
+  strata::SharpCorner spit;
+  spit.apex = { 10, 0 };
+  spit.region = 1;
+  spit.angle = 10.0;
+  spit.first = { { 10, 0 }, { 0, h } };
+  spit.second = { { 10, 0 }, { 0, -h } };
+  p.wedgeCorners = { spit };
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(r.extendedWedges, 1u);
+  const double d0 = p.minimumEdgeLength / (2.0 * std::sin(5.0 * kPi / 180.0));
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d0 * std::sin(10.0 * kPi / 180.0), 1e-9);
+  // One piece: every triangle of region 1 reached from the first across region 1's edges.
+  std::map<std::pair<int, int>, int> edge;
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      edge[{ m.triangles[t][k], m.triangles[t][(k + 1) % 3] }] = static_cast<int>(t);
+    }
+  }
+  std::vector<int> stack, seen(m.triangles.size(), 0);
+  for (std::size_t t = 0; t < m.triangles.size() && stack.empty(); ++t)
+  {
+    if (m.region[t] == 1)
+    {
+      stack.push_back(static_cast<int>(t));
+      seen[t] = 1;
+    }
+  }
+  while (!stack.empty())
+  {
+    const int t = stack.back();
+    stack.pop_back();
+    for (int k = 0; k < 3; ++k)
+    {
+      const auto it = edge.find({ m.triangles[t][(k + 1) % 3], m.triangles[t][k] });
+      if (it != edge.end() && m.region[it->second] == 1 && !seen[it->second])
+      {
+        seen[it->second] = 1;
+        stack.push_back(it->second);
+      }
+    }
+  }
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+  {
+    EXPECT_TRUE(m.region[t] != 1 || seen[t]) << "triangle " << t << " of region 1 is cut off";
+  }
+}
+
 // A speck, a region triangle with no neighbour of its own region and an inradius below
 // minimumEdgeLength, goes to a neighbour whatever its size: the 10 x 1 triangle (40, 0),
 // (50, 0), (50, 1) of region 2 inside the strip of region 0 (longer than the 16 edges of

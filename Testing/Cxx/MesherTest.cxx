@@ -571,7 +571,10 @@ struct DefaultCase
 };
 
 // Where the boundary bound does not hold yet, its guard is the measured figure (README,
-// "Known limits") plus about 10%: Marmousi, a layer two finest edges thick ended early. The
+// "Known limits") plus about 10%: Marmousi, the chord that ends a lens of region 4 where it is
+// one finest edge wide, 0.59 local edges from its curves where the triangles beside it are
+// shorter than the finest edge (a layer two finest edges thick ended early, before the
+// extended lens tips looked past pieces of the lens cut off in the tip). The
 // gulf's Loops form and lake_superior_full meet it with ThinLayerRetry's mesh refined around
 // the places the first one misses (0.64 and 0.63 before).
 const DefaultCase kDefaultCases[] = {
@@ -760,18 +763,20 @@ TEST(MesherTest, ThinLayerRefinementKeepsAFaultedSectionsBoundaryWithinHalfTheLo
   EXPECT_EQ(thin.summary.finestEdgeLength, plain.summary.finestEdgeLength);
 }
 
-// Marmousi: the grid of ThinLayerRefinement makes the compression leave vertices off the
-// curves (a 9.4-degree mesh), so the mesh without it is made too and kept, as it is better;
-// a warning gives both meshes' figures, and the time of the discarded run is a stage. (Made
-// without it first, the mesh misses the boundary bound, 0.62 local edges, so the mesh with it
-// is made too, and discarded.)
+// Marmousi: the grid of ThinLayerRefinement everywhere makes the compression leave vertices off
+// the curves (a 9.4-degree mesh), so when the user sets it the mesh without it is made too and
+// kept, as it is better; a warning gives both meshes' figures, and the time of the discarded
+// run is a stage. By default the mesh without it misses the boundary bound by a hair (0.50
+// local edges), and the one refined around that place only is kept (0.40).
 TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBounds)
 {
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp"));
-  strata::MesherParams p;
-  const strata::MesherResult plain = strata::triangulate(raw, p);
+  strata::MesherParams once;
+  once.thinLayerRetry = false;
+  const strata::MesherResult plain = strata::triangulate(raw, once);
   EXPECT_FALSE(plain.summary.thinLayerMesh);
+  strata::MesherParams p;
   p.grid.thinLayerRefinement = true;
   const strata::MesherResult thin = strata::triangulate(raw, p);
   EXPECT_FALSE(thin.summary.thinLayerMesh);
@@ -785,6 +790,15 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   ASSERT_FALSE(thin.summary.secondsPerStage.empty());
   EXPECT_EQ(thin.summary.secondsPerStage.front().first, "discarded run");
   EXPECT_GE(thin.summary.totalSeconds, thin.summary.secondsPerStage.front().second);
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_GT(plain.summary.maxRelativeDeviation, 0.5);
+  EXPECT_TRUE(d.summary.thinLayerMesh);
+  EXPECT_LE(d.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  const std::string zoned = allWarnings(d);
+  EXPECT_NE(zoned.find("around the misses was made too"), std::string::npos) << zoned;
+  EXPECT_NE(zoned.find("the second one is kept"), std::string::npos) << zoned;
 }
 
 // A region narrower than the finest edge cannot be represented: its loss does not count in
@@ -1296,22 +1310,23 @@ int piecesOf(const strata::MesherResult& r, int region, double floor)
 }
 } // namespace
 
-// lost_layer_piece_section (a random faulted section): where a fault cuts region 5, a layer
-// 3.7 finest edges thick and thinner than the cells there, the mesh made once gives a piece of
-// it to its neighbour: the boundary 0.82 local edges off its curve, while every angle is at 30
-// degrees and every area within 0.1%, so neither the angle nor the area bound sees it. The
-// relative deviation does (above 0.5), so by default the mesh is made again with
-// ThinLayerRefinement around the places it misses, which keeps the layer, and that one is
-// kept.
+// lost_layer_piece_section (a random faulted section): near where region 5, a layer about a
+// finest edge thick, pinches out, the mesh made once gives a piece of it to its neighbour (and
+// keeps a speck of it beyond): the boundary 0.6 - 0.7 local edges off its curve, while every
+// angle is at 30 degrees and every area within 0.1%, so neither the angle nor the area bound
+// sees it. The relative deviation does (above 0.5), so by default the mesh is made again with
+// ThinLayerRefinement, first around the places it misses, and the one kept is within the
+// bound. (Before the extensions of the pinch-outs looked past pieces of a layer cut off in its
+// tip, the mesh made once also gave away 0.82 local edges of the layer where a fault cuts it.)
 TEST(MesherTest, AMeshThatGivesAPieceOfALayerAwayIsMadeAgainWithTheThinLayerRefinement)
 {
   const auto [raw, once] = madeOnce("lost_layer_piece_section.vtp");
   const strata::Model model = strata::buildModel(raw);
   EXPECT_GE(once.summary.minAngle, 29.95);
   EXPECT_LE(once.summary.maxRegionAreaError, 0.001);
-  EXPECT_GT(boundaryDeviationOverLocalEdge(model, once), 0.75);
+  EXPECT_GT(boundaryDeviationOverLocalEdge(model, once), 0.55);
   EXPECT_GT(once.summary.maxRelativeDeviation, 0.6);
-  EXPECT_GT(once.summary.relativeDeviationEdge, 3.0 * once.summary.finestEdgeLength);
+  EXPECT_GT(once.summary.relativeDeviationEdge, once.summary.finestEdgeLength);
   EXPECT_FALSE(once.summary.thinLayerMesh);
 
   const strata::MesherResult d = strata::triangulate(raw);
@@ -1325,11 +1340,9 @@ TEST(MesherTest, AMeshThatGivesAPieceOfALayerAwayIsMadeAgainWithTheThinLayerRefi
                      "bound (smallest angle 30.0"),
     std::string::npos)
     << all;
-  // (Refined around the places the first mesh misses, not everywhere.)
   EXPECT_NE(
     all.find("a mesh with ThinLayerRefinement around the misses was made too"), std::string::npos)
     << all;
-  EXPECT_EQ(all.find("then one with it everywhere"), std::string::npos) << all;
   ASSERT_FALSE(d.summary.secondsPerStage.empty());
   EXPECT_EQ(d.summary.secondsPerStage.front().first, "discarded run");
 }
