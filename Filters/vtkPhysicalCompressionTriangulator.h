@@ -305,9 +305,10 @@ public:
    * (`BrokenRegions`), is made again with LocalMaxLevel 4 levels finer, kept when its smallest
    * angle is larger, or, for the area, when its area error is smaller and its smallest angle is not
    * (up to 30 degrees), or, for the pieces, when fewer regions are cut and neither the smallest
-   * angle nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); with
-   * KeepSharpCorners that smallest angle is the one away from the kept corners (field
-   * `MinimumAngleUnforced`). Off: one mesh, as made.
+   * angle nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); when the finer
+   * one is kept and still misses one of these, it is made once more 2 levels finer again, kept
+   * by the same rule. With KeepSharpCorners that smallest angle is the one away from the kept
+   * corners (field `MinimumAngleUnforced`). Off: one mesh, as made.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

@@ -80,7 +80,9 @@ struct MesherParams
   /// region cut into more pieces than the model has (MesherResult::brokenRegions), is made
   /// again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when its
   /// smallest angle is larger, or when it mends the area or the pieces without a smaller
-  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel). With
+  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel); when
+  /// the finer one is kept and still misses, it is made once more 2 levels finer again, kept
+  /// by the same rule. With
   /// keepSharpCorners these smallest angles are those away from the kept corners
   /// (Summary::minAngleUnforced; the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
