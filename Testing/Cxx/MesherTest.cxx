@@ -1359,6 +1359,33 @@ TEST(MesherTest, AMeshThatGivesAPieceOfALayerAwayIsMadeAgainWithTheThinLayerRefi
   EXPECT_EQ(d.summary.secondsPerStage.front().first, "discarded run");
 }
 
+// cut_corner_section (a random layered section, 3 x 1.12, four regions): the compressed mesh
+// ends the top layer's triangles 0.0019 (2.3 finest edges) short of the box's top-left
+// corner, a right angle, with a chord across it. The region corners whose tip the mesh lost
+// are rebuilt up to 90 degrees included (RefinementParams::wedgeCorners), so every corner of
+// the box is a mesh vertex (as every junction is), and the boundary stays within half the
+// local edge there (0.57 before).
+TEST(MesherTest, TheCornersOfTheModelsBoxAreMeshVertices)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("cut_corner_section.vtp"));
+  const strata::Model model = strata::buildModel(raw);
+  const strata::MesherResult r = strata::triangulate(raw);
+  const double top = 1.1214559078216553;
+  for (const Vec2 c : { Vec2{ 0, 0 }, Vec2{ 3, 0 }, Vec2{ 3, top }, Vec2{ 0, top } })
+  {
+    double nearest = HUGE_VAL;
+    for (const Vec2& x : r.points)
+    {
+      nearest = std::min(nearest, strata::norm(x + r.origin - c));
+    }
+    EXPECT_LE(nearest, 1e-9 * model.size()) << "corner (" << c.x << ", " << c.y << ")";
+  }
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, r), 0.5);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+}
+
 // A layer the mesh cuts where it is about 1.3 finest edges thick (broken_layer_section.vtp,
 // region 3, one piece in the model; LocalMaxLevel 14 automatic): the mesh made once has it in
 // two pieces, and names it (brokenRegions, a warning with both counts). ThinLayerRetry makes
