@@ -664,6 +664,25 @@ bool onCornerSide(Vec2 q, double h)
   return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
 }
 
+// The refinement of cornerCutAt6(h, -1) as a 10-degree spit of region 1 into the exterior
+// (h = 10 tan 5 degrees), with the spit in RefinementParams::wedgeCorners.
+RefinementParams spitParams(double h)
+{
+  RefinementParams p;
+  p.minimumEdgeLength = 0.25;
+  p.onCurve = [h](Vec2 q) { return onCornerSide(q, h) || std::fabs(q.x) < 1e-9; };
+  p.regionAt = [h](Vec2 q)
+  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
+  strata::SharpCorner spit;
+  spit.apex = { 10, 0 };
+  spit.region = 1;
+  spit.angle = 10.0;
+  spit.first = { { 10, 0 }, { 0, h } };
+  spit.second = { { 10, 0 }, { 0, -h } };
+  p.wedgeCorners = { spit };
+  return p;
+}
+
 } // namespace
 
 // A 45-degree corner of region 1 (apex (10, 0), sides to (0, +-4.14)) whose tip the mesh gave
@@ -723,18 +742,9 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
 {
   const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
   const RegionMesh lost = cornerCutAt6(h, -1);
-  const auto side = [&](Vec2 q) { return onCornerSide(q, h); };
-  RefinementParams p;
-  p.minimumEdgeLength = 0.25;
-  p.onCurve = [&](Vec2 q) { return side(q) || std::fabs(q.x) < 1e-9; };
-  p.regionAt = [&](Vec2 q)
-  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
-  strata::SharpCorner spit;
-  spit.apex = { 10, 0 };
-  spit.region = 1;
-  spit.angle = 10.0;
-  spit.first = { { 10, 0 }, { 0, h } };
-  spit.second = { { 10, 0 }, { 0, -h } };
+  const RefinementParams p = spitParams(h);
+  RefinementParams none = p;
+  none.wedgeCorners.clear();
   const auto reach = [](const RegionMesh& m)
   {
     double x = 0.0;
@@ -748,10 +758,9 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
     return x;
   };
   RegionMesh without = lost;
-  const RefinementResult before = strata::refineDelaunay(without, middle, p);
+  const RefinementResult before = strata::refineDelaunay(without, middle, none);
   EXPECT_NEAR(reach(without), 6.0, 1e-9);
 
-  p.wedgeCorners = { spit };
   RegionMesh m = lost;
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
   expectValid(m);
@@ -798,18 +807,7 @@ TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
   m.region[0] = m.region[1] = m.region[11] = m.region[12] = 1;
   m.level.assign(m.triangles.size(), 0);
   expectValid(m);
-  RefinementParams p;
-  p.minimumEdgeLength = 0.25;
-  p.onCurve = [&](Vec2 q) { return onCornerSide(q, h) || std::fabs(q.x) < 1e-9; };
-  p.regionAt = [&](Vec2 q)
-  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
-  strata::SharpCorner spit;
-  spit.apex = { 10, 0 };
-  spit.region = 1;
-  spit.angle = 10.0;
-  spit.first = { { 10, 0 }, { 0, h } };
-  spit.second = { { 10, 0 }, { 0, -h } };
-  p.wedgeCorners = { spit };
+  const RefinementParams p = spitParams(h);
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
   expectValid(m);
   EXPECT_EQ(r.extendedWedges, 1u);
