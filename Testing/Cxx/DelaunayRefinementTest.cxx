@@ -664,22 +664,27 @@ bool onCornerSide(Vec2 q, double h)
   return q.x >= 0.0 && q.x <= 10.0 && std::fabs(std::fabs(q.y) - (10.0 - q.x) * h / 10.0) < 1e-9;
 }
 
-// The refinement of cornerCutAt6(h, -1) as a 10-degree spit of region 1 into the exterior
-// (h = 10 tan 5 degrees), with the spit in RefinementParams::wedgeCorners.
-RefinementParams spitParams(double h)
+// The refinement of cornerCutAt6(h, other) with its corner (apex (10, 0), `angle` degrees,
+// sides to (0, +-h)) in RefinementParams::wedgeCorners: region 1 inside the corner, `other`
+// around it (the box's sides are curves when it is a region).
+RefinementParams cornerParams(double h, double angle, int other, double minimumEdgeLength)
 {
   RefinementParams p;
-  p.minimumEdgeLength = 0.25;
-  p.onCurve = [h](Vec2 q) { return onCornerSide(q, h) || std::fabs(q.x) < 1e-9; };
-  p.regionAt = [h](Vec2 q)
-  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : -1; };
-  strata::SharpCorner spit;
-  spit.apex = { 10, 0 };
-  spit.region = 1;
-  spit.angle = 10.0;
-  spit.first = { { 10, 0 }, { 0, h } };
-  spit.second = { { 10, 0 }, { 0, -h } };
-  p.wedgeCorners = { spit };
+  p.minimumEdgeLength = minimumEdgeLength;
+  p.onCurve = [h, other](Vec2 q)
+  {
+    return onCornerSide(q, h) || std::fabs(q.x) < 1e-9 ||
+      (other >= 0 && (std::fabs(q.x - 20.0) < 1e-9 || std::fabs(std::fabs(q.y) - 10.0) < 1e-9));
+  };
+  p.regionAt = [h, other](Vec2 q)
+  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : other; };
+  strata::SharpCorner corner;
+  corner.apex = { 10, 0 };
+  corner.region = 1;
+  corner.angle = angle;
+  corner.first = { { 10, 0 }, { 0, h } };
+  corner.second = { { 10, 0 }, { 0, -h } };
+  p.wedgeCorners = { corner };
   return p;
 }
 
@@ -693,27 +698,13 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
 {
   const double h = 10.0 * std::tan(22.5 * kPi / 180.0), y6 = 0.4 * h;
   const RegionMesh lost = cornerCutAt6(h, 0);
-  const auto side = [&](Vec2 q) { return onCornerSide(q, h); };
-  RefinementParams p;
-  p.minimumEdgeLength = 1.0;
-  p.onCurve = [&](Vec2 q)
-  {
-    return side(q) || std::fabs(q.x) < 1e-9 || std::fabs(q.x - 20.0) < 1e-9 ||
-      std::fabs(std::fabs(q.y) - 10.0) < 1e-9;
-  };
-  p.regionAt = [&](Vec2 q)
-  { return q.x > 0.0 && q.x < 10.0 && std::fabs(q.y) < (10.0 - q.x) * h / 10.0 ? 1 : 0; };
-  strata::SharpCorner corner;
-  corner.apex = { 10, 0 };
-  corner.region = 1;
-  corner.angle = 45.0;
-  corner.first = { { 10, 0 }, { 0, h } };
-  corner.second = { { 10, 0 }, { 0, -h } };
+  const RefinementParams p = cornerParams(h, 45.0, 0, 1.0);
+  RefinementParams none = p;
+  none.wedgeCorners.clear();
   RegionMesh without = lost;
-  const RefinementResult before = strata::refineDelaunay(without, middle, p);
+  const RefinementResult before = strata::refineDelaunay(without, middle, none);
   EXPECT_NEAR(regionAreas(without).at(1), 10.0 * h - 4.0 * y6, 1e-9);
 
-  p.wedgeCorners = { corner };
   RegionMesh m = lost;
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
   expectValid(m);
@@ -742,7 +733,7 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
 {
   const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
   const RegionMesh lost = cornerCutAt6(h, -1);
-  const RefinementParams p = spitParams(h);
+  const RefinementParams p = cornerParams(h, 10.0, -1, 0.25);
   RefinementParams none = p;
   none.wedgeCorners.clear();
   const auto reach = [](const RegionMesh& m)
@@ -807,7 +798,7 @@ TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
   m.region[0] = m.region[1] = m.region[11] = m.region[12] = 1;
   m.level.assign(m.triangles.size(), 0);
   expectValid(m);
-  const RefinementParams p = spitParams(h);
+  const RefinementParams p = cornerParams(h, 10.0, -1, 0.25);
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
   expectValid(m);
   EXPECT_EQ(r.extendedWedges, 1u);
