@@ -225,8 +225,8 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
 // is two finest edges wide, 115 from its apex, is reached).
 constexpr double kWedgeReach = 120.0;
 // Degrees: region corners below this whose tip is lost are rebuilt; right angles included (a
-// model's box: random layered sections whose mesh cut a corner of it 0.55-0.57 local edges
-// from the apex are within 0.16-0.27 then).
+// model's box: the random layered sections whose mesh cut a corner of it, 0.55-0.57 local
+// edges off the curves there, are within 0.15-0.27 then).
 constexpr double kLostTipAngle = 90.5;
 
 // RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`

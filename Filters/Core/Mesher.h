@@ -82,9 +82,8 @@ struct MesherParams
   /// smallest angle is larger, or when it mends the area or the pieces without a smaller
   /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel); when
   /// the finer one is kept and still misses, it is made once more 2 levels finer again, kept
-  /// by the same rule. With
-  /// keepSharpCorners these smallest angles are those away from the kept corners
-  /// (Summary::minAngleUnforced; the wedges keep the input's). Default on.
+  /// by the same rule. With keepSharpCorners these smallest angles are those away from the
+  /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };
 
