@@ -2833,7 +2833,8 @@ bool Refiner::keepCorner(const SharpCorner& c,
   // An extension's region triangles count only in pieces of the region that reach beyond the
   // sides (the region's body): a piece left inside the wedge (triangles the compression gave
   // the region near the tip, cut off from the body by the neighbour's) is no part of it.
-  const std::vector<int> body = cut ? this->regionBody(all, c.region, c.apex, reach) : all;
+  const std::vector<int> body =
+    cut ? this->regionBody(all, c.region, c.apex, reach) : std::vector<int>();
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
   {
     this->poll();
