@@ -1702,32 +1702,41 @@ MesherResult triangulateOnce(const RawPolylines& input,
     // triangles beside the mesh's boundary edge), outside regions narrower than the finest
     // edge (they cannot be represented): the curve points beside one left out, and of the
     // mesh's boundary only the deviations longer than the finest edge.
-    double maxRelative = 0.0, relativeEdge = 0.0; // and the local edge there, at relativeAt
-    Vec2 relativeAt;
-    // The places above kDeviationBound, one per stretch of about kMissSpacing local edges.
-    const auto miss = [](std::vector<MesherResult::BoundaryMiss>& misses, Vec2 at, double edge)
+    // Per sampling part (the mesh's boundary; the curves' two halves, on two threads, each
+    // with its scratch), merged in order: the same on any machine.
+    struct Part
     {
-      if (misses.size() < kMaxMisses &&
-        (misses.empty() ||
-          norm2(misses.back().at - at) > kMissSpacing * kMissSpacing * edge * edge))
+      StripTreeScratch heap;
+      double relative = 0.0, edge = 0.0; // the largest relative deviation, its local edge
+      Vec2 at;                           // ... and where
+      // The places above kDeviationBound, one per stretch of about kMissSpacing local edges.
+      std::vector<MesherResult::BoundaryMiss> misses;
+      void miss(Vec2 p, double e)
       {
-        misses.push_back({ at, edge });
+        if (this->misses.size() < kMaxMisses &&
+          (this->misses.empty() ||
+            norm2(this->misses.back().at - p) > kMissSpacing * kMissSpacing * e * e))
+        {
+          this->misses.push_back({ p, e });
+        }
+      }
+      // A deviation d at p, where the local edge is e.
+      void note(double d, double e, Vec2 p)
+      {
+        if (d > kDeviationBound * e)
+        {
+          this->miss(p, e);
+        }
+        if (d > this->relative * e)
+        {
+          this->relative = d / e;
+          this->edge = e;
+          this->at = p;
+        }
       }
     };
-    std::vector<MesherResult::BoundaryMiss> misses;
-    const auto relative = [&](double d, double edge, Vec2 at)
-    {
-      if (d > kDeviationBound * edge)
-      {
-        miss(misses, at, edge);
-      }
-      if (d > maxRelative * edge)
-      {
-        maxRelative = d / edge;
-        relativeEdge = edge;
-        relativeAt = at;
-      }
-    };
+    Part boundaryPart;
+    std::array<Part, 2> parts;
     const double finest = result.summary.finestEdgeLength;
     // Distances through SegmentGrids (cells the median boundary edge wide) when they tell,
     // within two cells, the same distance as the strip trees.
@@ -1795,7 +1804,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           maxMeshToModel = std::max(maxMeshToModel, d);
           if (d > finest && h.back() > 0.0)
           {
-            relative(d, h.back(), q);
+            boundaryPart.note(d, h.back(), q);
           }
         }
       }
@@ -1809,17 +1818,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
     {
       const StripTree tree(a, b);
       const SegmentGrid meshCells(a, b, cell, most(a.size()));
-      // The curves' samples, on two threads (Parallel.h): per part, a scratch, the largest
-      // distance and the largest relative deviation (merged in order: the same on any
-      // machine).
-      struct Part
-      {
-        StripTreeScratch heap;
-        double maxDistance = 0.0, relative = 0.0, edge = 0.0;
-        Vec2 at;
-        std::vector<MesherResult::BoundaryMiss> misses;
-      };
-      std::array<Part, 2> parts;
+      // The curves' samples, on two threads (Parallel.h), each part with its largest distance.
+      std::array<double, 2> partDistance = { 0.0, 0.0 };
       // The distance from p to the mesh's boundary, and the boundary's edge nearest p (-1 when
       // the cells cannot tell).
       const auto toMesh = [&](Vec2 p, Part& part, int& segment)
@@ -1861,16 +1861,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
             return;
           }
         }
-        if (d > kDeviationBound * h[s])
-        {
-          miss(part.misses, p, h[s]);
-        }
-        if (d > part.relative * h[s])
-        {
-          part.relative = d / h[s];
-          part.edge = h[s];
-          part.at = p;
-        }
+        part.note(d, h[s], p);
       };
       // The curves' segments, then the ends of the open chains (segment -1).
       std::vector<std::pair<int, int>> segments;
@@ -1897,7 +1888,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           if (segments[e].second < 0)
           {
             const double d = toMesh(c.points.back(), part, segment);
-            part.maxDistance = std::max(part.maxDistance, d);
+            partDistance[which] = std::max(partDistance[which], d);
             const Vec2 p = n > 1 ? c.points[n - 2] : c.points.back(), r = c.points.back();
             const double length = norm(r - p);
             if (length > 0.0)
@@ -1923,7 +1914,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           {
             const double f = static_cast<double>(j) / m;
             const double d = toMesh(p + f * (r - p), part, segment);
-            part.maxDistance = std::max(part.maxDistance, d);
+            partDistance[which] = std::max(partDistance[which], d);
             if (length > 0.0)
             {
               relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, d, segment, part);
@@ -1936,26 +1927,27 @@ MesherResult triangulateOnce(const RawPolylines& input,
         kDeviationThreaded,
         sample,
         [&] { progress.report(0.95, "writing the mesh"); });
+      maxModelToMesh = std::max({ maxModelToMesh, partDistance[0], partDistance[1] });
       for (const Part& part : parts)
       {
-        maxModelToMesh = std::max(maxModelToMesh, part.maxDistance);
-        if (part.relative > 0.0 && part.relative > maxRelative)
+        if (part.relative > 0.0 && part.relative > boundaryPart.relative)
         {
-          maxRelative = part.relative;
-          relativeEdge = part.edge;
-          relativeAt = part.at;
+          boundaryPart.relative = part.relative;
+          boundaryPart.edge = part.edge;
+          boundaryPart.at = part.at;
         }
         for (const MesherResult::BoundaryMiss& m : part.misses)
         {
-          miss(misses, m.at, m.edge);
+          boundaryPart.miss(m.at, m.edge);
         }
       }
     }
     result.summary.maxBoundaryVertexDistance = maxVertex;
     result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
+    const double maxRelative = boundaryPart.relative;
     result.summary.maxRelativeDeviation = maxRelative;
-    result.summary.relativeDeviationEdge = relativeEdge;
-    result.boundaryMisses = std::move(misses);
+    result.summary.relativeDeviationEdge = boundaryPart.edge;
+    result.boundaryMisses = std::move(boundaryPart.misses);
     if (maxRelative > kDeviationBound)
     {
       char text[512];
@@ -1966,9 +1958,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
         "edge (%.6g) wide is lost to its neighbour there (or one is added); ThinLayerRefinement "
         "or a finer LocalMaxLevel usually keeps it",
         maxRelative,
-        maxRelative * relativeEdge,
-        relativeAt.x + model.origin.x,
-        relativeAt.y + model.origin.y,
+        maxRelative * boundaryPart.edge,
+        boundaryPart.at.x + model.origin.x,
+        boundaryPart.at.y + model.origin.y,
         finest);
       result.warnings.push_back(text);
     }
