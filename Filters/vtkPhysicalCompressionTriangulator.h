@@ -302,10 +302,12 @@ public:
    * still below 25 degrees where no input corner sharper than 25 forces it (layers about a finest
    * edge thick), or with a region's area still off by more than 0.5% (a piece of a thin layer
    * lost), or, with MaxLevel automatic too, with a region cut into more pieces than the model has
-   * (`BrokenRegions`), is made again with LocalMaxLevel 4 levels finer, kept when its smallest
-   * angle is larger, or, for the area, when its area error is smaller and its smallest angle is not
-   * (up to 30 degrees), or, for the pieces, when fewer regions are cut and neither the smallest
-   * angle nor the area (beyond 0.5%) is worse (field `LocalMaxLevel`, a warning); when the finer
+   * (`BrokenRegions`) or a `MaxRelativeBoundaryDeviation` still above 0.55, is made again with
+   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or, for the area, when
+   * its area error is smaller and its smallest angle is not (up to 30 degrees), or, for the
+   * pieces, when fewer regions are cut and neither the smallest angle nor the area (beyond 0.5%)
+   * is worse, or, for the boundary, when its deviation is smaller and neither the smallest angle,
+   * the area nor the regions cut are worse (field `LocalMaxLevel`, a warning); when the finer
    * one is kept and still misses one of these, it is made once more 2 levels finer again, kept
    * by the same rule. With KeepSharpCorners that smallest angle is the one away from the kept
    * corners (field `MinimumAngleUnforced`). Off: one mesh, as made.

@@ -77,10 +77,11 @@ struct MesherParams
   /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
   /// angle: a mesh still below 25 degrees (layers about a finest edge thick), or with a
   /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
-  /// region cut into more pieces than the model has (MesherResult::brokenRegions), is made
-  /// again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when its
-  /// smallest angle is larger, or when it mends the area or the pieces without a smaller
-  /// smallest angle (up to 30 degrees) (a warning gives both; Summary::localMaxLevel); when
+  /// region cut into more pieces than the model has (MesherResult::brokenRegions) or its
+  /// Summary::maxRelativeDeviation still above 0.55, is made again with grid.localMaxLevel 4
+  /// levels finer than the automatic one, and kept when its smallest angle is larger, or when
+  /// it mends the area, the pieces or the deviation without a smaller smallest angle (up to 30
+  /// degrees) (a warning gives both; Summary::localMaxLevel); when
   /// the finer one is kept and still misses, it is made once more 2 levels finer again, kept
   /// by the same rule. With keepSharpCorners these smallest angles are those away from the
   /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.

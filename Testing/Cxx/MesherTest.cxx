@@ -1273,6 +1273,39 @@ TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
   EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
 }
 
+// A lake whose island has a spit about 1.4 finest edges wide with a bay beside it, in
+// triangles 4 to 8 finest edges long (spit_and_bay_lake.vtp, LocalMaxLevel 22 automatic): the
+// mesh made once covers the spit with water, its boundary 0.61 local edges off the curves, and
+// neither thin layer mesh mends it. ThinLayerRetry then makes it 4 levels finer, where both the
+// spit and the bay are kept, and keeps that mesh; with the level set by the user the miss stays.
+TEST(MesherTest, ABoundaryTheThinLayersDoNotMendIsMadeAgainAtAFinerLevel)
+{
+  const auto [raw, r] = madeOnce("spit_and_bay_lake.vtp");
+  ASSERT_GT(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_LE(d.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  EXPECT_TRUE(d.brokenRegions.empty());
+  EXPECT_LE(d.summary.maxRegionAreaError, 0.005);
+  const std::string warnings = allWarnings(d);
+  EXPECT_NE(warnings.find("had its boundary"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("the finer one is kept"), std::string::npos) << warnings;
+  EXPECT_EQ(std::count_if(d.summary.secondsPerStage.begin(),
+              d.summary.secondsPerStage.end(),
+              [](const auto& stage) { return stage.first == "discarded level run"; }),
+    1);
+
+  strata::MesherParams set;
+  set.grid.localMaxLevel = r.summary.localMaxLevel;
+  const strata::MesherResult s = strata::triangulate(raw, set);
+  EXPECT_EQ(s.summary.localMaxLevel, r.summary.localMaxLevel);
+  EXPECT_GT(s.summary.maxRelativeDeviation, 0.5);
+  EXPECT_EQ(allWarnings(s).find("made again at LocalMaxLevel"), std::string::npos);
+}
+
 namespace
 {
 // The pieces of region `region` in the mesh: its triangles joined across shared edges, counted
