@@ -205,9 +205,10 @@
 //      and kept when its smallest angle is larger (Marmousi at MaxLevel 7: a 20-degree
 //      pinch-out's tip, left to a neighbour, was a 19.7-degree triangle; its other wedges stay
 //      extended).
-//    - A region corner of minimumAngle to 90 degrees whose tip the mesh lost (its region's
-//      triangles have no vertex on the apex and end, on both sides, farther from it than
-//      where the wedge is one minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
+//    - A region corner of minimumAngle to 100 degrees (as the mesher lists them: right angles
+//      and a little wider) whose tip the mesh lost (its region's triangles have no vertex on
+//      the apex and end, on both sides, farther from it than where the wedge is one
+//      minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
 //      apex, with rungs two minimumEdgeLength apart at least (nearer ones leave edges too
 //      short for the refinement beside the apex) and all of 7's checks, but not kept: its
 //      triangles are refined as any others (a country's 45-degree cape the compressed mesh

@@ -226,8 +226,10 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
 constexpr double kWedgeReach = 120.0;
 // Degrees: region corners below this whose tip is lost are rebuilt; right angles included (a
 // model's box: the random layered sections whose mesh cut a corner of it, 0.55-0.57 local
-// edges off the curves there, are within 0.15-0.27 then).
-constexpr double kLostTipAngle = 90.5;
+// edges off the curves there, are within 0.15-0.27 then), and corners a little wider (a
+// lake's 92-degree corner cut 2 finest edges short: 0.55 -> 0.50; up to 100, a right angle
+// drawn or digitised by hand).
+constexpr double kLostTipAngle = 100.0;
 
 // RefinementParams::wedgeCorners: the wedges of the exterior sharper than `minimumAngle`
 // (degrees) at a point of a region's ring (an inlet of a coast: the region's angle there is

@@ -1419,6 +1419,27 @@ TEST(MesherTest, TheCornersOfTheModelsBoxAreMeshVertices)
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
 }
 
+// A lake's corner of 92 degrees (blunt_corner_lake.vtp, at (644.81, -763.95)) that the mesh
+// cut 2 finest edges short of its apex: corners of its region up to 100 degrees whose tip is
+// lost are rebuilt to the apex, as right angles are (a right angle drawn or digitised by hand).
+TEST(MesherTest, ALakesCornerALittleWiderThanARightAngleIsAMeshVertex)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("blunt_corner_lake.vtp"));
+  const strata::Model model = strata::buildModel(raw);
+  const strata::MesherResult r = strata::triangulate(raw);
+  const Vec2 corner{ 644.8117765598055, -763.9489459264131 };
+  double nearest = HUGE_VAL;
+  for (const Vec2& x : r.points)
+  {
+    nearest = std::min(nearest, strata::norm(x + r.origin - corner));
+  }
+  EXPECT_LE(nearest, 1e-9 * model.size());
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+}
+
 // A layer the mesh cuts where it is about 1.3 finest edges thick (broken_layer_section.vtp,
 // region 3, one piece in the model; LocalMaxLevel 14 automatic): the mesh made once has it in
 // two pieces, and names it (brokenRegions, a warning with both counts). ThinLayerRetry makes
