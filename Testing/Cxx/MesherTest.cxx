@@ -33,6 +33,14 @@ std::string allWarnings(const strata::MesherResult& r)
   return all;
 }
 
+// How many meshes of a finer level were made and not kept (stages of the one kept).
+long discardedLevelRuns(const strata::MesherResult& r)
+{
+  return std::count_if(r.summary.secondsPerStage.begin(),
+    r.summary.secondsPerStage.end(),
+    [](const auto& stage) { return stage.first == "discarded level run"; });
+}
+
 struct Case
 {
   const char* file;
@@ -1251,10 +1259,7 @@ TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
     << warnings;
   EXPECT_NE(warnings.find("the last one is kept"), std::string::npos) << warnings;
   // The two meshes not kept are stages of the one kept.
-  EXPECT_EQ(std::count_if(d.summary.secondsPerStage.begin(),
-              d.summary.secondsPerStage.end(),
-              [](const auto& stage) { return stage.first == "discarded level run"; }),
-    2);
+  EXPECT_EQ(discardedLevelRuns(d), 2);
 
   strata::MesherParams keep;
   keep.keepSharpCorners = true;
@@ -1293,10 +1298,7 @@ TEST(MesherTest, ABoundaryTheThinLayersDoNotMendIsMadeAgainAtAFinerLevel)
   const std::string warnings = allWarnings(d);
   EXPECT_NE(warnings.find("had its boundary"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("the finer one is kept"), std::string::npos) << warnings;
-  EXPECT_EQ(std::count_if(d.summary.secondsPerStage.begin(),
-              d.summary.secondsPerStage.end(),
-              [](const auto& stage) { return stage.first == "discarded level run"; }),
-    1);
+  EXPECT_EQ(discardedLevelRuns(d), 1);
 
   strata::MesherParams set;
   set.grid.localMaxLevel = r.summary.localMaxLevel;
