@@ -208,11 +208,11 @@
 //    - A region corner of minimumAngle to 100 degrees (as the mesher lists them: right angles
 //      and a little wider) whose tip the mesh lost (its region's triangles have no vertex on
 //      the apex and end, on both sides, farther from it than where the wedge is one
-//      minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its
-//      apex, with rungs two minimumEdgeLength apart at least (nearer ones leave edges too
-//      short for the refinement beside the apex) and all of 7's checks, but not kept: its
-//      triangles are refined as any others (a country's 45-degree cape the compressed mesh
-//      cut 2.3 finest edges short, where its triangles are 2.4 finest edges long).
+//      minimumEdgeLength wide, plus half that) is rebuilt as in 7 to its apex, with rungs two
+//      minimumEdgeLength apart at least (nearer ones leave edges too short for the refinement
+//      beside the apex) and all of 7's checks, but not kept: its triangles are refined as any
+//      others (a country's 45-degree cape the compressed mesh cut 2.3 finest edges short,
+//      where its triangles are 2.4 finest edges long).
 //    The runs of 3 then mend the triangles beside them. Each wedge looks only at the
 //    triangles with a vertex within twice its sides' reach (found for all wedges in one
 //    sweep), and its flips of 2 start from those.

@@ -2292,7 +2292,7 @@ MesherResult triangulate(const RawPolylines& input,
   };
   const auto figures = [&](const MesherResult& r)
   {
-    char text[192];
+    char text[256];
     std::snprintf(text,
       sizeof(text),
       "LocalMaxLevel %d (smallest %.2f degrees%s, area error %.2f%%, %zu regions cut, boundary "
