@@ -31,7 +31,15 @@
 //    triangles after); the halves are checked in turn (up to 8 rounds, within the insertion
 //    budget). The threshold is relative to the region, so that only small regions (islands,
 //    small countries, whose area a chord across a bend is a sizeable part of) get such
-//    splits: a large region's boundary keeps the edges the refinement gives it.
+//    splits: a large region's boundary keeps the edges the refinement gives it. Whatever the
+//    area, an edge whose stretch's farthest point lies more than kSnapChord of its length
+//    from it, with the opposite vertex of its region triangle a free vertex within half
+//    minimumEdgeLength of that point, has that vertex moved onto the point (when no triangle
+//    around it turns) and the triangle retagged by its centroid (snapOpposite()): the
+//    compression left the vertex beside a model corner, off the curve, so no split fits there
+//    and 2b's retag refused the triangle (a lake's shore cut by a chord across its 88-degree
+//    corner of land, and another across a bay's bend: 0.57 and 0.67 -> 0.47 and 0.49 local
+//    edges).
 // 2c. Sharp corners (with the curve recovery). A recovered layer ends where it gets thinner
 //    than the triangles, often in a spike: a triangle whose smallest angle lies between two
 //    region boundary edges. A region triangle with such a corner below minimumAngle, no longer
@@ -286,6 +294,8 @@ constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve rec
 // on a 0.70 long edge between two junctions, the finest legs 0.95 long). The probes of 2b and the
 // corners of 2c keep minimumEdgeLength: recovering thinner layers costs angles where they end.
 constexpr double kFloor = 0.5;
+constexpr double kSnapChord = 0.25; // 2b': a chord whose curve point lies this many of its
+                                    // lengths from it, with a free vertex beside that point
 
 // > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
 // beyond a relative rounding margin.
@@ -606,6 +616,10 @@ private:
   void insertIn(int t, Vec2 w, std::vector<int>& created);
   bool splitBoundary(int t, int k);
   bool retag(int t, char* far = nullptr, const int* near = nullptr);
+  /// 2b': moves the free vertex of t opposite its edge k onto the curve point w beside it and
+  /// retags t; false (nothing changed) when that vertex is not free, the move would turn a
+  /// triangle around it, or t keeps its region.
+  bool snapOpposite(int t, int k, Vec2 w);
   LargeVector<int> centroidRegionsNear();
   void appendNeighbours(int t, std::vector<int>& list) const
   {
@@ -1652,6 +1666,16 @@ std::size_t Refiner::followCurves()
       {
         continue;
       }
+      // A chord across a model corner with a free vertex of t beside the corner (the
+      // compression left it there, off the curve): that vertex is moved onto the corner (no
+      // vertex made: not counted).
+      if (std::fabs(cross(b - a, w - a)) > kSnapChord * l * l &&
+        norm(this->X(this->M.triangles[t][(k + 2) % 3]) - w) < kFloor * this->P.minimumEdgeLength &&
+        this->snapOpposite(t, k, w))
+      {
+        touched.push_back(t);
+        continue;
+      }
       const double smaller = right >= 0 ? std::min(area[left], area[right]) : area[left];
       const double bound = std::min(
         { kDeviationFraction * smaller, limit[left], right >= 0 ? limit[right] : HUGE_VAL });
@@ -1669,6 +1693,56 @@ std::size_t Refiner::followCurves()
     collect(touched);
   }
   return splits;
+}
+
+bool Refiner::snapOpposite(int t, int k, Vec2 w)
+{
+  const int c = this->M.triangles[t][(k + 2) % 3];
+  const int region = this->M.region[t];
+  // c's star, turning from t; a free vertex's is closed, of t's region, with no constrained edge.
+  std::vector<int> star;
+  int cur = t;
+  for (int turn = 0; turn < kMaxWalk; ++turn)
+  {
+    const auto& tri = this->M.triangles[cur];
+    const int kc = tri[0] == c ? 0 : (tri[1] == c ? 1 : 2);
+    if (!this->Live[cur] || this->M.region[cur] != region || this->constrained(cur, kc) ||
+      this->constrained(cur, (kc + 2) % 3))
+    {
+      return false;
+    }
+    star.push_back(cur);
+    cur = this->Nbr[cur][kc];
+    if (cur < 0)
+    {
+      return false;
+    }
+    if (cur == t)
+    {
+      break;
+    }
+  }
+  if (cur != t)
+  {
+    return false;
+  }
+  const Vec2 before = this->M.points[c];
+  this->M.points[c] = w;
+  const bool turned = std::any_of(star.begin(),
+    star.end(),
+    [&](int x)
+    {
+      const auto& tri = this->M.triangles[x];
+      const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
+      return !(orient2d(p, q, r) > 1e-9 * std::max({ norm2(q - p), norm2(r - q), norm2(p - r) }));
+    });
+  if (turned || !this->retag(t))
+  {
+    this->M.points[c] = before;
+    return false;
+  }
+  this->legalize(c, star);
+  return true;
 }
 
 // For every live triangle, the region at its centroid when a curve lies nearer to it than

@@ -1113,6 +1113,46 @@ TEST(DelaunayRefinementTest, BoundaryEdgesThatCutOffTheirCurveAreSplitOnIt)
   }
 }
 
+// Curve fidelity where no split fits: the curve (6, 0) - (3, 5) - (6, 10) has a corner at
+// (3, 5) that the boundary edge x = 6 cuts off, and the free vertex (3.1, 5) of region 0 sits
+// beside the corner, off the curve (as the compression leaves one by a model corner), so the
+// split at the corner would turn a triangle, and the triangle (6, 0) - (6, 10) - (4.1, 5) has
+// a corner off the curves for a retag. The vertex is moved onto the corner, and the triangle
+// takes the region at its centroid: both regions get their curve areas (45 and 55).
+TEST(DelaunayRefinementTest, AFreeVertexBesideACutCornerIsMovedOntoIt)
+{
+  RegionMesh m;
+  m.points = { { 0, 0 }, { 6, 0 }, { 10, 0 }, { 10, 10 }, { 6, 10 }, { 0, 10 }, { 3.1, 5 } };
+  m.triangles = { { 0, 1, 6 }, { 1, 4, 6 }, { 4, 5, 6 }, { 5, 0, 6 }, { 1, 2, 3 }, { 1, 3, 4 } };
+  m.region = { 0, 0, 0, 0, 1, 1 };
+  m.level = { 0, 0, 0, 0, 0, 0 };
+  const Vec2 corner{ 3, 5 };
+  const auto curveX = [](double y) { return y <= 5.0 ? 6.0 - 0.6 * y : 3.0 + 0.6 * (y - 5.0); };
+  RefinementParams p;
+  p.minimumEdgeLength = 1.0;
+  p.regionAt = [&](Vec2 q) { return q.x > curveX(q.y) ? 1 : 0; };
+  p.onCurve = [&](Vec2 q)
+  { return q.y >= 0.0 && q.y <= 10.0 && std::abs(q.x - curveX(q.y)) < 1e-9; };
+  p.curveDeviation = [&](Vec2 a, Vec2 b, int left, int right, double& area, Vec2& at)
+  {
+    const bool chord = a.x == 6.0 && b.x == 6.0 && std::min(a.y, b.y) == 0.0 &&
+      std::max(a.y, b.y) == 10.0 && std::min(left, right) == 0 && std::max(left, right) == 1;
+    if (!chord)
+    {
+      return false; // the outer border, or the two sides of the corner
+    }
+    area = 15.0;
+    at = corner;
+    return true;
+  };
+  strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(std::count(m.points.begin(), m.points.end(), corner), 1);
+  const auto areas = regionAreas(m);
+  EXPECT_NEAR(areas.at(0), 45.0, 1e-9);
+  EXPECT_NEAR(areas.at(1), 55.0, 1e-9);
+}
+
 // Curve fidelity adds up (RefinementParams::curveAreaBudget 0.25%, as the mesher sets with the
 // automatic sizes): a thin layer (band 1, 20 long, 1 thick, between two 10-thick bands) whose
 // boundary edges each cut off 0.04% of its area, under the per-edge 0.05%, but 0.8% in all
