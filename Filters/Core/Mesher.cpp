@@ -633,7 +633,8 @@ struct CurveQuery
 void refineCompressed(CompressionResult& compressed,
   const Model& model,
   const DistanceField& field,
-  const Grid48& grid,
+  const Grid48Params& gridParams,
+  double finestEdge,
   const BoundaryRails& rails,
   const MesherParams& params,
   double marginScale,
@@ -727,7 +728,7 @@ void refineCompressed(CompressionResult& compressed,
       compressed, rails, scratch, onCurveTolerance, [&](int t) { return wrong[t] != 0; });
   }
   RefinementParams rp = params.refinement;
-  rp.minimumEdgeLength = finestEdgeLength(grid, params);
+  rp.minimumEdgeLength = finestEdge;
   // With the automatic sizes (none the user chose; ThinLayerRetry's finer level sets the
   // budget itself), a thin bending layer's boundary edges may not cut off more than
   // kCurveAreaBudget of its area in all (issue 5's 0.5% bound is for the misplaced area, both
@@ -737,7 +738,7 @@ void refineCompressed(CompressionResult& compressed,
     rp.curveAreaBudget = kCurveAreaBudget;
   }
   // The user's MaximumEdgeLength bounds the mesh's edges, not only the grid's.
-  rp.maximumEdgeLength = grid.params().maxEdgeLength;
+  rp.maximumEdgeLength = gridParams.maxEdgeLength;
   if (params.keepSharpCorners && params.curveRecovery)
   {
     rp.keptCorners =
@@ -1466,10 +1467,18 @@ MesherResult triangulateOnce(const RawPolylines& input,
   const DistanceField field(model);
   stage("distance field");
 
-  const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.14));
-  const TriangleMesh mesh = grid.extract(-1, progress.sub(0.14, 0.15));
-  result.summary.finestEdgeLength = finestEdgeLength(grid, params);
-  result.summary.localMaxLevel = grid.params().localMaxLevel;
+  // The grid goes once its mesh is out: its nodes (130 MB at 1 M triangles) would stay
+  // through the compression's peak, and first writes to memory are what cost most on the
+  // machines of issue 4.
+  Grid48Params gridParams;
+  const TriangleMesh mesh = [&]()
+  {
+    const Grid48 grid = Grid48::build(model, field, params.grid, progress.sub(0.03, 0.14));
+    result.summary.finestEdgeLength = finestEdgeLength(grid, params);
+    gridParams = grid.params();
+    return grid.extract(-1, progress.sub(0.14, 0.15));
+  }();
+  result.summary.localMaxLevel = gridParams.localMaxLevel;
   stage("grid");
 
   const Classification classification =
@@ -1506,8 +1515,16 @@ MesherResult triangulateOnce(const RawPolylines& input,
       retry = compressed;
     }
     MesherResult first;
-    refineCompressed(
-      compressed, model, field, grid, rails, params, 1.0, progress.sub(0.9, 0.93), first);
+    refineCompressed(compressed,
+      model,
+      field,
+      gridParams,
+      result.summary.finestEdgeLength,
+      rails,
+      params,
+      1.0,
+      progress.sub(0.9, 0.93),
+      first);
     const double target = params.refinement.minimumAngle - kRetryAngleSlack;
     const RefinedOutcome o1 =
       refinedOutcome(compressed, model, first.keptCorners, progress.sub(0.9, 0.93));
@@ -1517,7 +1534,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
       refineCompressed(*retry,
         model,
         field,
-        grid,
+        gridParams,
+        result.summary.finestEdgeLength,
         rails,
         params,
         kRetryMarginScale,
@@ -1664,7 +1682,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
       g.x,
       g.y,
       result.summary.finestEdgeLength,
-      grid.params().localMaxLevel);
+      gridParams.localMaxLevel);
     result.warnings.push_back(text);
   }
   if (qs.inverted + qs.degenerate > 0)
