@@ -1514,33 +1514,31 @@ MesherResult triangulateOnce(const RawPolylines& input,
     {
       retry = compressed;
     }
-    MesherResult first;
-    refineCompressed(compressed,
-      model,
-      field,
-      gridParams,
-      result.summary.finestEdgeLength,
-      rails,
-      params,
-      1.0,
-      progress.sub(0.9, 0.93),
-      first);
-    const double target = params.refinement.minimumAngle - kRetryAngleSlack;
-    const RefinedOutcome o1 =
-      refinedOutcome(compressed, model, first.keptCorners, progress.sub(0.9, 0.93));
-    if (retry && (o1.minAngle < target || o1.areaError > kRetryAreaError))
+    const auto refine = [&](CompressionResult& c,
+                          double marginScale,
+                          const ProgressReporter& part,
+                          MesherResult& refined)
     {
-      MesherResult second;
-      refineCompressed(*retry,
+      refineCompressed(c,
         model,
         field,
         gridParams,
         result.summary.finestEdgeLength,
         rails,
         params,
-        kRetryMarginScale,
-        progress.sub(0.93, 0.95),
-        second);
+        marginScale,
+        part,
+        refined);
+    };
+    MesherResult first;
+    refine(compressed, 1.0, progress.sub(0.9, 0.93), first);
+    const double target = params.refinement.minimumAngle - kRetryAngleSlack;
+    const RefinedOutcome o1 =
+      refinedOutcome(compressed, model, first.keptCorners, progress.sub(0.9, 0.93));
+    if (retry && (o1.minAngle < target || o1.areaError > kRetryAreaError))
+    {
+      MesherResult second;
+      refine(*retry, kRetryMarginScale, progress.sub(0.93, 0.95), second);
       const RefinedOutcome o2 =
         refinedOutcome(*retry, model, second.keptCorners, progress.sub(0.93, 0.95));
       const double a1 = std::min(o1.minAngle, target), a2 = std::min(o2.minAngle, target);
