@@ -1467,9 +1467,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
   const DistanceField field(model);
   stage("distance field");
 
-  // The grid goes once its mesh is out: its nodes (130 MB at 1 M triangles) would stay
-  // through the compression's peak, and first writes to memory are what cost most on the
-  // machines of issue 4.
+  // The grid goes once its mesh is out: its arrays (136 MB at 1 M triangles) would stay
+  // through the compression's peak (peak RSS at 1 M 600 -> 510 MB), and first writes to
+  // memory cost much on the machines of issue 4.
   Grid48Params gridParams;
   const TriangleMesh mesh = [&]()
   {
