@@ -1135,7 +1135,7 @@ public:
       {
         continue; // split meanwhile (forced); its children are pending
       }
-      if (++examined % 16384 == 0)
+      if (++examined % 4096 == 0)
       {
         // The stack's size is a rough measure of the work left.
         const double done = static_cast<double>(examined);
