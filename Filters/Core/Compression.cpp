@@ -2147,6 +2147,7 @@ void Compressor::simulate()
     }
     if (wave || (it + 1) % kWakeInterval == 0)
     {
+      this->Progress.report(this->At, this->Stage); // (after a wave's, before the refresh's work)
       const std::size_t moving = this->refreshAwake(windowStart, pushed);
       if (!pushing && waves >= kMaxWaves && moving <= static_cast<std::size_t>(kQuietFraction * n))
       {
