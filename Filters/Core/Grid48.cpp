@@ -1615,6 +1615,9 @@ std::size_t Grid48::refineWhere(const std::function<bool(const Grid48&, int node
 
 int Grid48::addVertex(std::array<std::uint32_t, 2> lattice, int level, double distance)
 {
+  reserveGrowth(this->Lattice);
+  reserveGrowth(this->VertexLevel);
+  reserveGrowth(this->VertexDistance);
   this->Lattice.push_back(lattice);
   this->VertexLevel.push_back(static_cast<std::uint8_t>(level));
   this->VertexDistance.push_back(distance);
@@ -1646,6 +1649,11 @@ void Grid48::bisect(int node, int m)
   const int c = static_cast<int>(this->Level.size());
   const std::uint8_t level = static_cast<std::uint8_t>((this->Level[node] & kLevelMask) + 1);
   const std::uint8_t inherited = this->Level[node] & kEmpty;
+  reserveGrowth(this->Vert, 2);
+  reserveGrowth(this->Nbr, 2);
+  reserveGrowth(this->Child, 2);
+  reserveGrowth(this->Level, 2);
+  reserveGrowth(this->PairParent);
   this->Vert.push_back({ m, v[0], v[1] });
   this->Vert.push_back({ m, v[2], v[0] });
   this->Nbr.push_back({ n[2], -1, c + 1 });
@@ -1771,7 +1779,8 @@ TriangleMesh Grid48::extract(int level, const ProgressReporter& progress) const
 
 std::size_t Grid48::memoryBytes() const
 {
-  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  // (Sizes: the capacity beyond them, reserved fourfold as the arrays grow, is never written.)
+  auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
   return bytes(this->Vert) + bytes(this->Nbr) + bytes(this->Child) + bytes(this->Level) +
     bytes(this->PairParent) + bytes(this->Lattice) + bytes(this->VertexLevel) +
     bytes(this->VertexDistance);

@@ -353,7 +353,7 @@ public:
   /// Resolved parameters of the last refine()/build() (defaults before any).
   const Grid48Params& params() const { return this->Params; }
   const Grid48Statistics& statistics() const { return this->Stats; }
-  /// Heap bytes held by the grid: the capacity of all its arrays.
+  /// Bytes the grid's arrays hold (their sizes; see reserveGrowth in LargeArray.h).
   std::size_t memoryBytes() const;
 
 private:

@@ -65,6 +65,21 @@ struct LargeArrayAllocator
 template<class T>
 using LargeVector = std::vector<T, LargeArrayAllocator<T>>;
 
+/// Room for `more` items beyond v's size: when the capacity must grow, fourfold rather than
+/// the vector's twofold. An array that grows item by item to n items then writes about 1.3 n
+/// items to new memory rather than 2 n, and copies n / 3 rather than n: on the machines of
+/// issue 4 a first write costs about 2.5 s per GiB. (The capacity beyond the size is address
+/// space: pages never written take no memory.)
+template<class T>
+void reserveGrowth(LargeVector<T>& v, std::size_t more = 1)
+{
+  if (v.size() + more > v.capacity())
+  {
+    const std::size_t fourfold = v.capacity() <= v.max_size() / 4 ? 4 * v.capacity() : v.max_size();
+    v.reserve(v.size() + more > fourfold ? v.size() + more : fourfold);
+  }
+}
+
 } // namespace strata
 
 #endif
