@@ -116,6 +116,14 @@ struct RefinementParams
   /// its number of boundary edges). 0 = off (the default); the mesher sets 0.25% with the
   /// automatic levels. Range [0, 1].
   double curveAreaBudget = 0.0;
+  /// Optional, with curveDeviation: whether p, a point curveDeviation gave, is a corner of the
+  /// model's curves (the mesher: sharper than the compression's FeatureAngle, not sharper than
+  /// minimumAngle). A region boundary edge at least minimumEdgeLength long whose stretch's
+  /// farthest point is such a corner, more than a quarter of the edge's length from it, is
+  /// split there whatever the area it cuts off (with the halves' bound above): a chord the
+  /// compression left across a corner of a section's box, beside its outer border, or across
+  /// a kink of a horizon. Empty: no such splits.
+  std::function<bool(Vec2 p)> modelCorner;
   /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
   /// step 7): in the last pass, before its refinement runs, the wedge of each between its apex
   /// and the nearest vertices of its region on its two sides is rebuilt as rungs of its region

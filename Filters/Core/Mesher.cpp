@@ -400,7 +400,8 @@ constexpr double kFinerShare = 0.9;
 
 // The segment of chain c within `tolerance` of p, walked to from segment `start` (dir +1
 // forward, -1 backward) over at most `reach` of arc length, or -1; `walked` is the length
-// walked to it.
+// walked to it: of the segments between `start` and it (`start` itself, where the edge's
+// middle lies, may be much longer than the edge: a side of a section's box).
 int walkTo(const BoundaryRails::Chain& c,
   int start,
   Vec2 p,
@@ -419,7 +420,7 @@ int walkTo(const BoundaryRails::Chain& c,
     {
       return seg;
     }
-    walked += norm(q1 - q0);
+    walked += i > 0 ? norm(q1 - q0) : 0.0;
     seg += dir;
     if (seg < 0 || seg >= ns)
     {
@@ -897,6 +898,22 @@ void refineCompressed(CompressionResult& compressed,
     std::sort(corners.begin(),
       corners.end(),
       [](const Corner& p, const Corner& q) { return p.x.x < q.x.x; });
+    // (curveDeviation gives a chain point exactly.)
+    rp.modelCorner = [corners](Vec2 p)
+    {
+      auto it = std::lower_bound(corners.begin(),
+        corners.end(),
+        p.x,
+        [](const Corner& corner, double x) { return corner.x.x < x; });
+      for (; it != corners.end() && it->x.x == p.x; ++it)
+      {
+        if (it->x.y == p.y)
+        {
+          return true;
+        }
+      }
+      return false;
+    };
     // (With the queries of q: one CurveQuery per thread.)
     const auto curvePointWith = [&, corners](CurveQuery& q, Vec2 a, Vec2 b, Vec2 c, Vec2& at)
     {

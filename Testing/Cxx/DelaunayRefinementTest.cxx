@@ -1153,6 +1153,92 @@ TEST(DelaunayRefinementTest, AFreeVertexBesideACutCornerIsMovedOntoIt)
   EXPECT_NEAR(areas.at(1), 55.0, 1e-9);
 }
 
+// Curve fidelity at a model corner (RefinementParams::modelCorner): a square [0, 10]^2 (one
+// region, its sides the outer border) meshed with a chord across its corner (0, 10), as the
+// compression leaves one by a box's corner. A chord whose corner lies far from it (from
+// (0, 5) to (5, 10): 3.5, half its length) is split at the corner; one that ends near the
+// corner (from (0, 9.6) to (4, 10): the corner 0.4 from its end, too near for a split) has
+// that end slid onto the corner along its side. Either way the corner is a mesh vertex and
+// the region has the square's area. The callback reports no area cut off (as for a box's
+// corner in a region thousands of times larger), so the area rule alone splits nothing.
+TEST(DelaunayRefinementTest, AChordAcrossAModelCornerGetsAVertexOnTheCorner)
+{
+  const Vec2 corner{ 0, 10 };
+  const std::array<Vec2, 4> corners = { Vec2{ 0, 0 }, Vec2{ 10, 0 }, Vec2{ 10, 10 }, corner };
+  const auto onSide = [](Vec2 q, int side) // 0 bottom, 1 right, 2 top, 3 left
+  {
+    const double along = side % 2 == 0 ? q.x : q.y, across = side % 2 == 0 ? q.y : q.x;
+    const double at = side == 0 || side == 3 ? 0.0 : 10.0;
+    return std::abs(across - at) < 1e-9 && along >= -1e-9 && along <= 10.0 + 1e-9;
+  };
+  const auto sideOf = [&](Vec2 q)
+  {
+    for (int side = 0; side < 4; ++side)
+    {
+      if (onSide(q, side))
+      {
+        return side;
+      }
+    }
+    return -1;
+  };
+  RefinementParams p;
+  p.minimumEdgeLength = 1.0;
+  p.onCurve = [&](Vec2 q) { return sideOf(q) >= 0; };
+  p.curveDistance = [](Vec2 q, double) {
+    return std::min({ std::abs(q.x), std::abs(10.0 - q.x), std::abs(q.y), std::abs(10.0 - q.y) });
+  };
+  // Along a side toward `toward`, stopping at the square's corners (none moves).
+  p.curveSlide = [&](Vec2 from, Vec2 toward, int, int, Vec2& at)
+  {
+    const int side = sideOf(from);
+    if (side < 0 || std::find(corners.begin(), corners.end(), from) != corners.end())
+    {
+      return false;
+    }
+    at = side % 2 == 0 ? Vec2{ std::clamp(toward.x, 0.0, 10.0), from.y }
+                       : Vec2{ from.x, std::clamp(toward.y, 0.0, 10.0) };
+    return true;
+  };
+  // An edge between two adjacent sides stands for the stretch through their corner.
+  p.curveDeviation = [&](Vec2 a, Vec2 b, int, int, double& area, Vec2& at)
+  {
+    for (const Vec2 c : corners)
+    {
+      if (sideOf(a) >= 0 && sideOf(b) >= 0 && sideOf(a) != sideOf(b) && !(a == c) && !(b == c) &&
+        (a.x == c.x || a.y == c.y) && (b.x == c.x || b.y == c.y))
+      {
+        area = 0.0;
+        at = c;
+        return true;
+      }
+    }
+    return false;
+  };
+  p.modelCorner = [&](Vec2 q)
+  { return std::find(corners.begin(), corners.end(), q) != corners.end(); };
+  for (const auto& [from, to] :
+    { std::pair<Vec2, Vec2>{ { 0, 5 }, { 5, 10 } }, { { 0, 9.6 }, { 4, 10 } } })
+  {
+    RegionMesh m;
+    // The pentagon without the corner, fanned around (4, 4).
+    m.points = { { 0, 0 }, { 10, 0 }, { 10, 10 }, to, from, { 4, 4 } };
+    m.triangles = { { 0, 1, 5 }, { 1, 2, 5 }, { 2, 3, 5 }, { 3, 4, 5 }, { 4, 0, 5 } };
+    m.region = { 0, 0, 0, 0, 0 };
+    m.level = { 0, 0, 0, 0, 0 };
+    RefinementParams without = p;
+    without.modelCorner = nullptr;
+    RegionMesh cut = m;
+    strata::refineDelaunay(cut, middle, without);
+    EXPECT_EQ(std::count(cut.points.begin(), cut.points.end(), corner), 0);
+    strata::refineDelaunay(m, middle, p);
+    expectValid(m);
+    EXPECT_EQ(std::count(m.points.begin(), m.points.end(), corner), 1)
+      << "chord from (" << from.x << ", " << from.y << ")";
+    EXPECT_NEAR(regionAreas(m).at(0), 100.0, 1e-9);
+  }
+}
+
 // Curve fidelity adds up (RefinementParams::curveAreaBudget 0.25%, as the mesher sets with the
 // automatic sizes): a thin layer (band 1, 20 long, 1 thick, between two 10-thick bands) whose
 // boundary edges each cut off 0.04% of its area, under the per-edge 0.05%, but 0.8% in all

@@ -637,7 +637,25 @@ TEST_P(DefaultQuality, AnglesAreasAndBoundaryStayWithinTheirBounds)
   EXPECT_LE(r.summary.maxAngle, c.maxAngle);
   EXPECT_GE(100.0 * above30 / r.triangles.size(), c.percentAbove30);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005); // issue 5's 0.5%, on every model
-  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), c.deviation);
+  const strata::Model model = strata::buildModel(raw);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, r), c.deviation);
+  // Each corner of the model's box that is a point of its curves (a section's box) is a mesh
+  // vertex, as the junctions are (thin_layer's (1000, 0) was cut by a chord before).
+  const strata::Box2 b = model.bounds;
+  for (const Vec2 corner : { b.min, Vec2{ b.max.x, b.min.y }, b.max, Vec2{ b.min.x, b.max.y } })
+  {
+    if (std::find(model.nodes.begin(), model.nodes.end(), corner) == model.nodes.end())
+    {
+      continue;
+    }
+    double nearest = HUGE_VAL;
+    for (const Vec2& x : r.points)
+    {
+      nearest = std::min(nearest, strata::norm(x - corner));
+    }
+    EXPECT_LE(nearest, 1e-9 * model.size())
+      << "box corner (" << corner.x + model.origin.x << ", " << corner.y + model.origin.y << ")";
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(DataModels,
