@@ -243,6 +243,21 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(layer[1], 500.0)
         self.assertTrue((signed_areas(on) > 0).all())
 
+    def test_the_corners_of_a_sections_box_are_mesh_vertices(self):
+        # thin_layer's box, 1000 x 100: its corner (1000, 0) lies between two junctions on
+        # its border, where the compression used to leave a chord across it.
+        reader = simple.XMLPolyDataReader(FileName=[st.data("thin_layer.vtp")])
+        model = dsa.WrapDataObject(servermanager.Fetch(reader))
+        mesh = dsa.WrapDataObject(servermanager.Fetch(Triangulation(Input=reader)))
+        curve_points = np.asarray(model.Points)[:, :2]
+        lo, hi = curve_points.min(axis=0), curve_points.max(axis=0)
+        size = np.linalg.norm(hi - lo)
+        mesh_points = np.asarray(mesh.Points)[:, :2]
+        for corner in ([lo[0], lo[1]], [hi[0], lo[1]], [hi[0], hi[1]], [lo[0], hi[1]]):
+            self.assertLess(np.linalg.norm(curve_points - corner, axis=1).min(), 1e-12 * size)
+            self.assertLessEqual(np.linalg.norm(mesh_points - corner, axis=1).min(), 1e-9 * size,
+                                 "box corner %s" % corner)
+
     def test_thin_layer_refinement_refines_the_thin_layers_and_keeps_the_bounds(self):
         default, thin = default_and_changed("faulted_thin_layers.vtp", ThinLayerRefinement=1)
         self.assertEqual(field(default, "ThinLayerMesh"), 0)  # it meets the bounds: made once
