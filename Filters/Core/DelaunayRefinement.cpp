@@ -40,9 +40,11 @@
 //    and 2b's retag refused the triangle (a lake's shore cut by a chord across its 88-degree
 //    corner of land, and another across a bay's bend: 0.57 and 0.67 -> 0.47 and 0.49 local
 //    edges). An edge whose stretch's farthest point is a model corner (RefinementParams::
-//    modelCorner: sharper than FeatureAngle) is split there whatever the area when the corner
-//    lies more than kSnapChord of its length from it; else, or when the split is refused (an
-//    end too near the corner, a triangle that cannot take it), the edge's nearer end slides
+//    modelCorner: sharper than FeatureAngle) with straight sides (their stretches within
+//    kCornerStraight of their lengths: without that check the corners of wiggly shores were
+//    split too, at coarse levels down to 28.5 degrees) is split there whatever the area when
+//    the corner lies more than kSnapChord of its length from it; else, or when the split is refused
+//    (an end too near the corner, a triangle that cannot take it), the edge's nearer end slides
 //    onto the corner along its curve (slideOnto(): no triangle around it turns, its boundary
 //    edges stay on the curves). The compression leaves such chords across the corners of a
 //    section's box between two junctions: 30 of the 192 box corners of the 48 random faulted

@@ -119,10 +119,13 @@ struct RefinementParams
   /// Optional, with curveDeviation: whether p, a point curveDeviation gave, is a corner of the
   /// model's curves (the mesher: sharper than the compression's FeatureAngle, not sharper than
   /// minimumAngle). A region boundary edge at least minimumEdgeLength long whose stretch's
-  /// farthest point is such a corner, more than a quarter of the edge's length from it, is
-  /// split there whatever the area it cuts off (with the halves' bound above): a chord the
-  /// compression left across a corner of a section's box, beside its outer border, or across
-  /// a kink of a horizon. Empty: no such splits.
+  /// farthest point is such a corner, with no other corner on either side of it (each side's
+  /// stretch within 5% of its length from straight), gets a vertex on it whatever the area it
+  /// cuts off: split there when the corner lies more than a quarter of the edge's length from
+  /// it (with the halves' bound above), else, or when the split is refused, the edge's nearer
+  /// end slid onto it along its curve (with curveSlide, onCurve and curveDistance). The
+  /// collapses of short edges keep such a corner's vertex. For chords the compression left
+  /// across a corner of a section's box or a kink of a horizon. Empty: none of this.
   std::function<bool(Vec2 p)> modelCorner;
   /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
   /// step 7): in the last pass, before its refinement runs, the wedge of each between its apex
