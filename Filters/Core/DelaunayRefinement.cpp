@@ -526,6 +526,14 @@ private:
     const auto& tri = this->M.triangles[t];
     return orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2])) > 0.0;
   }
+  // Positive beyond a margin of 1e-9 of its longest side squared (a vertex moved onto a
+  // curve point turns no triangle around it: snapOpposite(), slideOnto()).
+  bool clearlyPositive(int t) const
+  {
+    const auto& tri = this->M.triangles[t];
+    const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
+    return orient2d(p, q, r) > 1e-9 * std::max({ norm2(q - p), norm2(r - q), norm2(p - r) });
+  }
   bool constrained(int t, int k) const
   {
     const int u = this->Nbr[t][k];
@@ -1768,14 +1776,8 @@ bool Refiner::snapOpposite(int t, int k, Vec2 w)
   }
   const Vec2 before = this->M.points[c];
   this->M.points[c] = w;
-  const bool turned = std::any_of(star.begin(),
-    star.end(),
-    [&](int x)
-    {
-      const auto& tri = this->M.triangles[x];
-      const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
-      return !(orient2d(p, q, r) > 1e-9 * std::max({ norm2(q - p), norm2(r - q), norm2(p - r) }));
-    });
+  const bool turned =
+    std::any_of(star.begin(), star.end(), [&](int x) { return !this->clearlyPositive(x); });
   if (turned || !this->retag(t))
   {
     this->M.points[c] = before;
@@ -1825,8 +1827,7 @@ bool Refiner::slideOnto(int t, int v, Vec2 w, int left, int right)
   for (const int x : star)
   {
     const auto& tri = this->M.triangles[x];
-    const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
-    ok = ok && orient2d(p, q, r) > 1e-9 * std::max({ norm2(q - p), norm2(r - q), norm2(p - r) });
+    ok = ok && this->clearlyPositive(x);
     const int kv = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
     for (const int k : { kv, (kv + 2) % 3 })
     {
