@@ -1702,10 +1702,11 @@ std::size_t Refiner::followCurves()
       {
         continue;
       }
+      const double off = std::fabs(cross(b - a, w - a)); // (w's distance from the edge x l)
       // A chord across a model corner with a free vertex of t beside the corner (the
       // compression left it there, off the curve): that vertex is moved onto the corner (no
       // vertex made: not counted).
-      if (std::fabs(cross(b - a, w - a)) > kSnapChord * l * l &&
+      if (off > kSnapChord * l * l &&
         norm(this->X(this->M.triangles[t][(k + 2) % 3]) - w) < kFloor * this->P.minimumEdgeLength &&
         this->snapOpposite(t, k, w))
       {
@@ -1718,7 +1719,6 @@ std::size_t Refiner::followCurves()
       // A chord across a model corner (RefinementParams::modelCorner): split at the corner
       // when that lies more than kSnapChord of the chord's length from it, whatever the area;
       // else, or when the split is refused, the chord's nearer end slides onto the corner.
-      const double off = std::fabs(cross(b - a, w - a)); // (the corner's distance x l)
       const bool corner = off > kCornerOff * l * l && this->P.modelCorner &&
         this->P.modelCorner(w) && this->straightTo(a, w, left, right) &&
         this->straightTo(w, b, left, right);
