@@ -142,8 +142,9 @@ struct RefinementParams
   /// DelaunayRefinement.cpp, step 7'), before the kept corners:
   /// - a wedge of the exterior (region -1) sharper than minimumAngle (a coast's narrow inlet)
   ///   whose exterior triangles end before it is one minimumEdgeLength wide is made exterior
-  ///   from there (vertices on its sides at the same distances from the apex, the sides and
-  ///   the cut between them mesh edges); the tip beyond the cut stays with the region around;
+  ///   from there (vertices on its sides, the sides and the cut between them mesh edges; the
+  ///   cut slanted: on one side a minimumEdgeLength nearer the apex than on the other); the
+  ///   tip beyond the cut stays with the region around;
   /// - a spit of a region sharper than minimumAngle, with the exterior on both sides, whose
   ///   region's triangles end before it is one minimumEdgeLength wide is extended to there
   ///   (the same way; the tip beyond the cut stays exterior);

@@ -727,8 +727,8 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
 // A 10-degree spit of region 1 into the exterior (apex (10, 0), sides to (0, +-0.87)) that the
 // mesh ends at x = 6, where it is 2.8 finest edges wide: with the corner in
 // RefinementParams::wedgeCorners, the last pass extends it (step 7') to where it is one finest
-// edge wide (1.43 from the apex), the tip beyond left to the exterior; without it the spit
-// stays short.
+// edge wide (1.43 from the apex) on one side and to a finest edge nearer the apex on the other
+// (a slanted cut), the tip beyond left to the exterior; without it the spit stays short.
 TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
 {
   const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
@@ -757,17 +757,18 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
   expectValid(m);
   EXPECT_EQ(r.extendedWedges, 1u);
   const double d0 = p.minimumEdgeLength / (2.0 * std::sin(5.0 * kPi / 180.0));
-  EXPECT_NEAR(reach(m), 10.0 - d0 * std::cos(5.0 * kPi / 180.0), 1e-6);
-  // Its area: the spit's but for the tip beyond the cut.
-  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d0 * std::sin(10.0 * kPi / 180.0), 1e-9);
+  const double d1 = d0 - p.minimumEdgeLength;
+  EXPECT_NEAR(reach(m), 10.0 - d1 * std::cos(5.0 * kPi / 180.0), 1e-6);
+  // Its area: the spit's but for the tip beyond the cut (the apex and the cut's ends).
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d1 * std::sin(10.0 * kPi / 180.0), 1e-9);
   EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
 }
 
 // The spit of AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide, but with a piece of region 1
 // left inside the tip, cut off from the spit by exterior triangles: a quad from x = 7 to 8.5,
-// just beyond the cut (x = 8.58) by less than the rungs' spacing. The piece is no end of the
-// spit's body: the last pass still extends the spit from x = 6 to the cut, and region 1 is then
-// one piece with the same area as before.
+// just short of the cut (x = 8.58 on one side, 8.82 on the other) by less than the rungs'
+// spacing. The piece is no end of the spit's body: the last pass still extends the spit from
+// x = 6 to the cut, and region 1 is then one piece with the same area as before.
 TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
 {
   const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
@@ -803,7 +804,8 @@ TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
   expectValid(m);
   EXPECT_EQ(r.extendedWedges, 1u);
   const double d0 = p.minimumEdgeLength / (2.0 * std::sin(5.0 * kPi / 180.0));
-  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d0 * std::sin(10.0 * kPi / 180.0), 1e-9);
+  const double d1 = d0 - p.minimumEdgeLength;
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d1 * std::sin(10.0 * kPi / 180.0), 1e-9);
   // One piece: every triangle of region 1 reached from the first across region 1's edges.
   std::map<std::pair<int, int>, int> edge;
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
