@@ -3126,8 +3126,10 @@ bool Refiner::keepCorner(const SharpCorner& c,
     if (cut)
     {
       // (At a vertex already on the side within a quarter minimumEdgeLength of the cut's
-      // end, rather than beside it.)
-      double at = from[s], closest = 0.25 * this->P.minimumEdgeLength;
+      // end, rather than beside it; within half of it at the slanted cut's nearer end, where a
+      // vertex left between it and the apex would make a sliver of the tip: the gulf at 1 M.)
+      double at = from[s],
+             closest = (from[s] < from[1 - s] ? 0.5 : 0.25) * this->P.minimumEdgeLength;
       for (double a : onSide[s])
       {
         if (std::fabs(a - from[s]) < closest)
