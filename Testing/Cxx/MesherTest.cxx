@@ -1064,19 +1064,30 @@ TEST(MesherTest, ALensInsideAnotherRegionReachesWhereItIsAboutOneFinestEdgeWide)
   expectAreasWithinHalfAPercent(r);
 }
 
-// A layer pinching out at a junction (another region above it, a third below) is extended the
-// same way: its region reaches where it is about one finest edge wide.
-TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeWide)
+namespace
 {
-  const double angle = 10.0, pi = 3.14159265358979323846;
-  const double d = 80.0 * std::tan(angle * pi / 180.0);
+// A layer (region 1) pinching out at `angle` degrees at a junction, (20, 50): region 0 above it,
+// region 2 below; its lower side runs to (100, 50 - d).
+strata::RawPolylines pinchOutAtJunction(double angle, double& d)
+{
+  d = 80.0 * std::tan(angle * 3.14159265358979323846 / 180.0);
   strata::RawPolylines model;
   strata_test::addClosedLoop(
     model, { { 0, 50 }, { 20, 50 }, { 100, 50 }, { 100, 100 }, { 0, 100 } }, 0);
   strata_test::addClosedLoop(model, { { 20, 50 }, { 100, 50 - d }, { 100, 50 } }, 1);
   strata_test::addClosedLoop(
     model, { { 0, 0 }, { 100, 0 }, { 100, 50 - d }, { 20, 50 }, { 0, 50 } }, 2);
-  const strata::MesherResult r = strata::triangulate(model);
+  return model;
+}
+} // namespace
+
+// A layer pinching out at a junction (another region above it, a third below) is extended the
+// same way: its region reaches where it is about one finest edge wide.
+TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeWide)
+{
+  const double angle = 10.0, pi = 3.14159265358979323846;
+  double d = 0.0;
+  const strata::MesherResult r = strata::triangulate(pinchOutAtJunction(angle, d));
   ASSERT_GT(r.triangles.size(), 100u);
   EXPECT_GE(r.summary.minAngle, 29.95);
   // Along the layer's axis, region 1 from where the layer is 1.25 finest edges wide.
@@ -1093,14 +1104,8 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
 TEST(MesherTest, TheCutEndingAnExtendedPinchOutIsLongerThanTheLayerIsWide)
 {
   const double angle = 10.0, pi = 3.14159265358979323846;
-  const double d = 80.0 * std::tan(angle * pi / 180.0);
-  strata::RawPolylines model;
-  strata_test::addClosedLoop(
-    model, { { 0, 50 }, { 20, 50 }, { 100, 50 }, { 100, 100 }, { 0, 100 } }, 0);
-  strata_test::addClosedLoop(model, { { 20, 50 }, { 100, 50 - d }, { 100, 50 } }, 1);
-  strata_test::addClosedLoop(
-    model, { { 0, 0 }, { 100, 0 }, { 100, 50 - d }, { 20, 50 }, { 0, 50 } }, 2);
-  const strata::MesherResult r = strata::triangulate(model);
+  double d = 0.0;
+  const strata::MesherResult r = strata::triangulate(pinchOutAtJunction(angle, d));
   ASSERT_GT(r.triangles.size(), 100u);
   EXPECT_GE(r.summary.minAngle, 29.95);
   // The layer's boundary edges off both its curves (the cut), with their middles' distances to
