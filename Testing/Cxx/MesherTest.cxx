@@ -1103,11 +1103,9 @@ TEST(MesherTest, ALayerPinchingOutAtAJunctionReachesWhereItIsAboutOneFinestEdgeW
 // (straight cuts beside triangles shorter than them made Marmousi's 0.59 local edges).
 TEST(MesherTest, TheCutEndingAnExtendedPinchOutIsLongerThanTheLayerIsWide)
 {
-  const double angle = 10.0, pi = 3.14159265358979323846;
   double d = 0.0;
-  const strata::MesherResult r = strata::triangulate(pinchOutAtJunction(angle, d));
+  const strata::MesherResult r = strata::triangulate(pinchOutAtJunction(10.0, d));
   ASSERT_GT(r.triangles.size(), 100u);
-  EXPECT_GE(r.summary.minAngle, 29.95);
   // The layer's boundary edges off both its curves (the cut), with their middles' distances to
   // the two curves.
   const Vec2 apex = Vec2{ 20.0, 50.0 } - r.origin, top = Vec2{ 100.0, 50.0 } - r.origin,
