@@ -724,6 +724,22 @@ TEST(DelaunayRefinementTest, ALostTipOfARegionCornerIsRebuiltToItsApex)
   EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
 }
 
+// The same lost tip where the finest edge is 2.6 long: region 1 ends 4.33 along its sides from
+// the apex, 1.67 finest edges, and the corner is one finest edge wide at 1.31 of them. That
+// end lies more than a quarter of that width beyond (kRestoredMargin), though not a half, so
+// the tip is rebuilt (a spit's tip lost 1.4 finest edges from its apex, in a random lake, was
+// 0.53 local edges from the mesh with a margin of a half).
+TEST(DelaunayRefinementTest, ATipLostLittleMoreThanWhereItIsOneFinestEdgeWideIsRebuilt)
+{
+  const double h = 10.0 * std::tan(22.5 * kPi / 180.0);
+  RegionMesh m = cornerCutAt6(h, 0);
+  const RefinementParams p = cornerParams(h, 45.0, 0, 2.6);
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(r.extendedWedges, 1u);
+  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h, 1e-9);
+}
+
 // A 10-degree spit of region 1 into the exterior (apex (10, 0), sides to (0, +-0.87)) that the
 // mesh ends at x = 6, where it is 2.8 finest edges wide: with the corner in
 // RefinementParams::wedgeCorners, the last pass extends it (step 7') to where it is one finest
