@@ -4203,7 +4203,17 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     std::optional<RegionMesh> before;
     if (last && amongRegions && params.minimumAngle > 0.0)
     {
-      before = mesh;
+      // (Array by array, with progress between: at 1 M the copy's first writes took up to
+      // 0.15 s on a slow hour of this machine.)
+      const char* stage = "refining toward the minimum angle";
+      before.emplace();
+      before->points = mesh.points;
+      part.report(0.0, stage);
+      before->triangles = mesh.triangles;
+      part.report(0.0, stage);
+      before->region = mesh.region;
+      before->level = mesh.level;
+      part.report(0.0, stage);
     }
     RefinementResult r = refinePass(mesh, splitter, params, last, passes > 1 && last, part);
     if (before && r.minimumAngle < params.minimumAngle - 1e-9)
