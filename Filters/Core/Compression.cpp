@@ -1184,10 +1184,9 @@ void Compressor::rebuildStars()
   // to 0.4 s in all on a slow hour of this machine.)
   const std::size_t nv = this->Global.size();
   this->StarStart.assign(nv + 1, 0);
-  this->Progress.report(this->At, this->Stage);
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
-    this->poll(t);
+    this->poll(t); // (t = 0: right after the assignment)
     for (int v : this->Tri[t])
     {
       ++this->StarStart[v + 1];
