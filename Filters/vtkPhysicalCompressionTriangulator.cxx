@@ -280,12 +280,18 @@ bool vtkPhysicalCompressionTriangulator::CheckProperties()
 void vtkPhysicalCompressionTriangulator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SpringConfiguration: " << this->SpringConfiguration << "\n";
+  os << indent << "SpringConfiguration: " << this->SpringConfiguration
+     << (this->SpringConfiguration == EDGE_SPRINGS ? " (edge springs)"
+                                                   : " (edge and projection springs)")
+     << "\n";
   os << indent << "SpringStiffness: " << this->SpringStiffness << "\n";
   os << indent << "Damping: " << this->Damping << "\n";
   os << indent << "TimeStep: " << this->TimeStep << "\n";
   os << indent << "MaxIterations: " << this->MaxIterations << "\n";
-  os << indent << "PushCriterion: " << this->PushCriterion << "\n";
+  static const char* const criteria[] = { " (all candidates)", " (one side)", " (closest)" };
+  os << indent << "PushCriterion: " << this->PushCriterion
+     << (this->PushCriterion >= 0 && this->PushCriterion <= 2 ? criteria[this->PushCriterion] : "")
+     << "\n";
   os << indent << "PushVelocity: " << this->PushVelocity << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
   os << indent << "FlipDegenerate: " << this->FlipDegenerate << "\n";

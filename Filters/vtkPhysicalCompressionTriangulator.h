@@ -90,7 +90,9 @@ public:
   ///@{
   /**
    * The triangle mesh (output port 0). These hide vtkPolyDataAlgorithm::GetOutput, whose
-   * type is not this filter's output type.
+   * type is not this filter's output type: through a vtkPolyDataAlgorithm pointer,
+   * GetOutput() is null; use GetOutputDataObject(0). GetOutput(1) is null too (port 1 is
+   * polydata: GetBoundaryOutput()).
    */
   vtkUnstructuredGrid* GetOutput();
   vtkUnstructuredGrid* GetOutput(int port);
@@ -287,32 +289,29 @@ public:
 
   ///@{
   /**
-   * Beyond the paper, with Optimization (default on): a mesh whose smallest angle is below
-   * min(MinimumAngle, 30) by more than 0.05 degrees (not checked with KeepSharpCorners), or
-   * whose region areas are off by more than 0.5%, is made again with ThinLayerRefinement, and
-   * the better of the two is kept (the larger smallest angle up to that bound, then the
-   * smaller area error); field `ThinLayerMesh` says whether the mesh kept was made with it, a
-   * warning gives both meshes' figures. With no size set (no MaxLevel, LocalMaxLevel,
-   * MinimumEdgeLength or edge length field), a mesh whose boundary lies more than half the
-   * local edge off the curves where the region there is at least a finest edge wide
-   * (`MaxRelativeBoundaryDeviation` above 0.5: a piece of a layer lost to its neighbour) is
-   * made again with ThinLayerRefinement around the places that miss (and, when that one
-   * still misses, everywhere), and the one with the smallest deviation is kept as long as its
-   * smallest angle (up to that bound) and its area error (beyond 0.5%) are not worse. A mesh that
-   * meets the bounds is made once. Then, with the automatic levels (LocalMaxLevel -1, no
-   * MinimumEdgeLength, no edge length field), CurveRecovery and MinimumAngle 25 or more: a mesh
-   * still below 25 degrees where no input corner sharper than 25 forces it (layers about a finest
-   * edge thick), or with a region's area still off by more than 0.5% (a piece of a thin layer
-   * lost), or, with MaxLevel automatic too, with a region cut into more pieces than the model has
-   * (`BrokenRegions`) or a `MaxRelativeBoundaryDeviation` still above 0.55, is made again with
-   * LocalMaxLevel 4 levels finer, kept when its smallest angle is larger, or, for the area, when
-   * its area error is smaller and its smallest angle is not (up to 30 degrees), or, for the
-   * pieces, when fewer regions are cut and neither the smallest angle nor the area (beyond 0.5%)
-   * is worse, or, for the boundary, when its deviation is smaller and neither the smallest angle,
-   * the area nor the regions cut are worse (field `LocalMaxLevel`, a warning); when the finer
-   * one is kept and still misses one of these, it is made once more 2 levels finer again, kept
-   * by the same rule. With KeepSharpCorners that smallest angle is the one away from the kept
-   * corners (field `MinimumAngleUnforced`). Off: one mesh, as made.
+   * Beyond the paper, with Optimization: a mesh that misses a bound is made again another
+   * way and the better one kept. Default on; off: one mesh, as made.
+   * - A smallest angle below min(MinimumAngle, 30) by more than 0.05 degrees (not checked
+   *   with KeepSharpCorners), a region's area off by more than 0.5%, or, with no size set (no
+   *   MaxLevel, LocalMaxLevel, MinimumEdgeLength or edge length field), the boundary more
+   *   than half the local edge off the curves where the region is at least a finest edge wide
+   *   (`MaxRelativeBoundaryDeviation` above 0.5): the mesh is made again with
+   *   ThinLayerRefinement toggled (for the boundary alone, around the misses first, then
+   *   everywhere). Field `ThinLayerMesh` says how the kept one was made.
+   * - Then, with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length
+   *   field), CurveRecovery and MinimumAngle 25 or more: still below 25 degrees where no input
+   *   corner forces it, a region's area still off by more than 0.5%, or, with MaxLevel
+   *   automatic too, a region cut into more pieces than the model has (`BrokenRegions`) or a
+   *   `MaxRelativeBoundaryDeviation` above 0.55: made again with LocalMaxLevel 4 levels finer
+   *   and, when that one is kept and still misses, 2 levels finer again (field
+   *   `LocalMaxLevel`).
+   * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
+   *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
+   *   the automatic sizes, no region cut) is kept. Between equals: the larger smallest angle
+   *   (up to 30 degrees), or for an area miss the smaller area error, for the pieces fewer
+   *   regions cut, for the boundary the smaller deviation, none of the others worse.
+   * A warning gives every mesh's figures. With KeepSharpCorners the smallest angle here is the
+   * one away from the kept corners (field `MinimumAngleUnforced`).
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

@@ -204,9 +204,12 @@ int vtkPolylineSignedDistanceFilter::RequestData(
     const strata::RawPolylines raw = vtkStrataMeshInput::ToRaw(source,
       vtkStrataMeshInput::MakeSelection(
         this->Form, this->RegionArrayName, this->LeftRegionArrayName, this->RightRegionArrayName));
-    result = strata::computeSignedDistance(raw, queries, {},
-      [this](double fraction, const char*)
+    result = strata::computeSignedDistance(raw,
+      queries,
+      {},
+      [this](double fraction, const char* stage)
       {
+        this->SetProgressText(stage);
         this->UpdateProgress(fraction);
         return !this->CheckAbort();
       });

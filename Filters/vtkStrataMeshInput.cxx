@@ -45,6 +45,19 @@ std::vector<int> ToLabels(vtkDataArray* array, vtkIdType numberOfCells)
   return labels;
 }
 
+// The names of the input's cell arrays, for the messages.
+std::string CellArrayNames(vtkPolyData* input)
+{
+  vtkCellData* data = input->GetCellData();
+  std::string names;
+  for (int i = 0; i < data->GetNumberOfArrays(); ++i)
+  {
+    const char* name = data->GetArrayName(i);
+    names += (names.empty() ? "'" : ", '") + std::string(name ? name : "") + "'";
+  }
+  return names.empty() ? "none" : names;
+}
+
 void AppendCells(vtkCellArray* cells, strata::CellKind kind, strata::RawPolylines& raw)
 {
   if (!cells)
@@ -113,25 +126,47 @@ strata::RawPolylines vtkStrataMeshInput::ToRaw(vtkPolyData* input, const Selecti
   vtkDataArray* left = FindLabels(input, selection.LeftRegionArray);
   vtkDataArray* right = FindLabels(input, selection.RightRegionArray);
   const bool shared = left && right && left != right;
+  const std::string arrays = "; the input's cell arrays: " + CellArrayNames(input);
+  const std::string sameNames = selection.LeftRegionArray == selection.RightRegionArray
+    ? " (LeftRegionArrayName and RightRegionArrayName are both '" + selection.LeftRegionArray +
+      "': the two arrays hold each curve's left and right region)"
+    : "";
   switch (selection.Form)
   {
     case FORM_LOOPS:
       raw.form = strata::ModelForm::Loops;
       if (!region && numberOfCells > 0)
       {
-        throw strata::InputError("Loops form: no cell array named '" + selection.RegionArray + "'");
+        throw strata::InputError(
+          "Loops form: no cell array named '" + selection.RegionArray + "'" + arrays);
       }
       break;
     case FORM_SHARED_CURVES:
       raw.form = strata::ModelForm::SharedCurves;
       if (!shared && numberOfCells > 0)
       {
-        throw strata::InputError("Shared curves form: needs two cell arrays '" +
-          selection.LeftRegionArray + "' and '" + selection.RightRegionArray + "'");
+        throw strata::InputError("Shared curves form: needs two cell arrays, '" +
+          selection.LeftRegionArray + "' and '" + selection.RightRegionArray + "'" + sameNames +
+          arrays);
       }
       break;
     default:
       raw.form = strata::ModelForm::Auto;
+      if (!shared && !region && numberOfCells > 0)
+      {
+        throw strata::InputError("no region arrays: Form = Auto looks for a cell array named '" +
+          selection.RegionArray + "' (Loops form) or two named '" + selection.LeftRegionArray +
+          "' and '" + selection.RightRegionArray + "' (Shared curves form)" + arrays);
+      }
+      if (!shared && input->GetCellData()->GetNumberOfArrays() > 1)
+      {
+        // The array drop-downs take the input's first array when it has none of the default
+        // names, so that a Shared curves model with other names reads as Loops.
+        raw.formNote = "Form = Auto read it as the Loops form with the cell array '" +
+          selection.RegionArray + "'" + sameNames +
+          "; for the Shared curves form choose LeftRegionArrayName and RightRegionArrayName" +
+          arrays;
+      }
       break;
   }
   if (shared && raw.form != strata::ModelForm::Loops)
@@ -158,7 +193,8 @@ void vtkStrataMeshInput::PrintSelection(ostream& os,
   const char* leftRegionArray,
   const char* rightRegionArray)
 {
-  os << indent << "Form: " << form << "\n";
+  static const char* const forms[] = { " (Auto)", " (Loops)", " (Shared curves)" };
+  os << indent << "Form: " << form << (form >= 0 && form <= 2 ? forms[form] : "") << "\n";
   os << indent << "RegionArrayName: " << (regionArray ? regionArray : "(none)") << "\n";
   os << indent << "LeftRegionArrayName: " << (leftRegionArray ? leftRegionArray : "(none)") << "\n";
   os << indent << "RightRegionArrayName: " << (rightRegionArray ? rightRegionArray : "(none)")

@@ -2432,7 +2432,7 @@ void Compressor::run()
     this->Result.secondsPerStage.push_back({ "optimization", secondsSince(t0) });
   }
   this->writeBack();
-  this->Progress.report(1.0, "compressing the grid");
+  this->Progress.report(1.0, this->Stage);
 }
 
 } // namespace detail

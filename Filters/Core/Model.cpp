@@ -1011,7 +1011,10 @@ double Model::size() const
 }
 
 //------------------------------------------------------------------------------
-Model buildModel(const RawPolylines& input, const ModelParams& params)
+namespace
+{
+
+Model buildModelChecked(const RawPolylines& input, const ModelParams& params)
 {
   if (!(params.mergeTolerance >= 0.0 && params.mergeTolerance <= 1e-3))
   {
@@ -1540,6 +1543,24 @@ Model buildModel(const RawPolylines& input, const ModelParams& params)
 
   model.warnings = warnings.take();
   return model;
+}
+
+} // namespace
+
+Model buildModel(const RawPolylines& input, const ModelParams& params)
+{
+  if (input.formNote.empty())
+  {
+    return buildModelChecked(input, params);
+  }
+  try
+  {
+    return buildModelChecked(input, params);
+  }
+  catch (const InputError& e)
+  {
+    throw InputError(std::string(e.what()) + " (" + input.formNote + ")");
+  }
 }
 
 } // namespace strata

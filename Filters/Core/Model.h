@@ -38,6 +38,9 @@ struct RawPolylines
   ModelForm form = ModelForm::Auto;
   std::vector<int> regionId;                ///< Loops form: one per cell
   std::vector<int> leftRegion, rightRegion; ///< SharedCurves form: one each per cell
+  /// How the caller chose the form and arrays, when that may be the fault: buildModel()
+  /// appends it to its InputError messages.
+  std::string formNote;
 
   std::size_t numberOfCells() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };

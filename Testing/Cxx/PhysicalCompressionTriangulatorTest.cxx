@@ -241,6 +241,58 @@ TEST(PhysicalCompressionTriangulatorTest, bad_inputs_fail_with_an_error_naming_t
   }
 }
 
+TEST(PhysicalCompressionTriangulatorTest, array_names_the_input_lacks_are_named_with_its_arrays)
+{
+  // A region array name the input does not have: the error names it and the input's arrays.
+  auto loops = Reader("salt_dome_loops.vtp");
+  for (const int form : { 0, 1 }) // Auto, Loops
+  {
+    vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+    mesher->SetInputConnection(loops->GetOutputPort());
+    mesher->SetForm(form);
+    mesher->SetRegionArrayName("Region");
+    auto log = Watch(mesher);
+    mesher->Update();
+    EXPECT_NE(log->Errors.find("'Region'"), std::string::npos) << form << ": " << log->Errors;
+    EXPECT_NE(log->Errors.find("cell arrays: 'RegionId'"), std::string::npos) << log->Errors;
+  }
+
+  // A Shared curves model whose label arrays have other names, all three names set to the first
+  // of them (ParaView's drop-downs when the default names are absent): Auto reads it as Loops,
+  // and the geometry error says so and how to choose the arrays.
+  auto shared = Reader("salt_dome.vtp");
+  shared->Update();
+  vtkNew<vtkPolyData> renamed;
+  renamed->DeepCopy(shared->GetOutput());
+  renamed->GetCellData()->GetArray("LeftRegion")->SetName("Above");
+  renamed->GetCellData()->GetArray("RightRegion")->SetName("Below");
+  for (const int form : { 0, 2 }) // Auto, Shared curves
+  {
+    vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+    mesher->SetInputData(renamed);
+    mesher->SetForm(form);
+    mesher->SetRegionArrayName("Above");
+    mesher->SetLeftRegionArrayName("Above");
+    mesher->SetRightRegionArrayName("Above");
+    auto log = Watch(mesher);
+    mesher->Update();
+    EXPECT_NE(log->Errors.find("are both 'Above'"), std::string::npos)
+      << form << ": " << log->Errors;
+    EXPECT_NE(log->Errors.find("cell arrays: 'Above', 'Below'"), std::string::npos) << log->Errors;
+    EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
+  }
+  // With the two arrays chosen, it meshes.
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputData(renamed);
+  mesher->SetLeftRegionArrayName("Above");
+  mesher->SetRightRegionArrayName("Below");
+  mesher->SetMaxLevel(9);
+  auto log = Watch(mesher);
+  mesher->Update();
+  EXPECT_TRUE(log->Errors.empty()) << log->Errors;
+  EXPECT_GT(mesher->GetOutput()->GetNumberOfCells(), 0);
+}
+
 TEST(PhysicalCompressionTriangulatorTest, empty_model_gives_empty_outputs_and_a_warning)
 {
   auto reader = Reader("bad_inputs/empty.vtp");
