@@ -102,6 +102,10 @@ bool vtkPolylineSignedDistance::UpdateModel()
       return false;
     }
     this->Internal->Field = std::make_unique<strata::DistanceField>(this->Internal->Core);
+    for (const std::string& warning : this->Internal->Core.warnings)
+    {
+      vtkWarningMacro(<< warning); // once per model build (an empty model: every value -inf)
+    }
   }
   catch (const std::exception& e)
   {

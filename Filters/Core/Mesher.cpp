@@ -489,6 +489,19 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
   return farthest > 0.0;
 }
 
+// Whether a vertex of r's approximated boundary lies off the input curves, beyond 1e-9 of the
+// input's size (issue 4's bound; a warning names it): one of the hard bounds by which
+// ThinLayerRetry chooses between two meshes.
+bool boundaryOffCurves(const MesherResult& r, const RawPolylines& input)
+{
+  Box2 box;
+  for (const Vec2& p : input.points)
+  {
+    box.add(p);
+  }
+  return r.summary.maxBoundaryVertexDistance > 1e-9 * box.diagonal();
+}
+
 // Whether the sizes are all the mesher's own: no MaxLevel, LocalMaxLevel, MinimumEdgeLength
 // or edge length field set by the user.
 bool automaticSizes(const MesherParams& params)
@@ -2192,17 +2205,19 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   };
   // Issue 5's hard bounds first: the smallest angle off the kept corners at least 25 degrees
   // (or MinimumAngle when lower), every region's area within 0.5% and, with the automatic
-  // sizes, no region cut into more pieces than the model has. The mesh that misses fewer of
-  // them is kept, whatever the angles above 25 degrees (random layered section m105 of
-  // random_sections.py 100 112: 30.00 degrees with a layer cut into 10 pieces and 2.4% of its
-  // area lost, against 28.82 degrees with 0.02%).
+  // sizes, no region cut into more pieces than the model has; and issue 4's, every vertex of
+  // the approximated boundary on a curve. The mesh that misses fewer of them is kept, whatever the
+  // angles above 25 degrees (random layered section m105 of random_sections.py 100 112: 30.00
+  // degrees with a layer cut into 10 pieces and 2.4% of its area lost, against 28.82 degrees with
+  // 0.02%).
   const double hardAngle = std::min(params.refinement.minimumAngle, kFinerRetryAngle);
   const auto hardMisses = [&](const MesherResult& r)
   {
     const double angle = params.keepSharpCorners ? r.summary.minAngleUnforced : r.summary.minAngle;
     return static_cast<int>(r.summary.maxRegionAreaError > kAreaBound) +
       static_cast<int>(unforced && angle < hardAngle - kRetryAngleSlack) +
-      static_cast<int>(automatic && !r.brokenRegions.empty());
+      static_cast<int>(automatic && !r.brokenRegions.empty()) +
+      static_cast<int>(boundaryOffCurves(r, input));
   };
   const int hard1 = hardMisses(first), hard2 = hardMisses(second);
   const bool keepSecond = second.summary.triangles > 0 && hard1 != hard2
@@ -2239,7 +2254,9 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
     third = triangulateOnce(input, otherParams, progress.sub(kThinLayerZonedShare, 1.0));
     third->summary.thinLayerMesh = true;
     text += ", then one with it everywhere (" + figures(*third) + ")";
-    if (betterBoundary(*third, *kept))
+    const int hard3 = hardMisses(*third), hardKept = hardMisses(*kept);
+    if (third->summary.triangles > 0 &&
+      (hard3 != hardKept ? hard3 < hardKept : betterBoundary(*third, *kept)))
     {
       kept = &*third;
     }
@@ -2383,11 +2400,15 @@ MesherResult triangulate(const RawPolylines& input,
     const MesherResult::Summary &s1 = k.summary, &s2 = c.summary;
     const bool angleKept =
       angleOf(s2) >= std::min(angleOf(s1), kThinLayerRetryAngle) - kRetryAngleSlack;
-    // (Issue 5's hard bounds first, as in triangulateWithThinLayers: the mesh that misses
-    // fewer of them is better, whatever the angles above 25 degrees.)
-    const auto hardMisses = [](const Misses& m)
-    { return static_cast<int>(m.angle) + static_cast<int>(m.area) + static_cast<int>(m.pieces); };
-    const int hardC = hardMisses(missesOf(c)), hardK = hardMisses(missesOf(k));
+    // (The hard bounds first, as in triangulateWithThinLayers: the mesh that misses fewer of
+    // them is better, whatever the angles above 25 degrees.)
+    const auto hardMisses = [&](const MesherResult& r)
+    {
+      const Misses m = missesOf(r);
+      return static_cast<int>(m.angle) + static_cast<int>(m.area) + static_cast<int>(m.pieces) +
+        static_cast<int>(boundaryOffCurves(r, input));
+    };
+    const int hardC = hardMisses(c), hardK = hardMisses(k);
     if (s2.triangles > 0 && hardC != hardK)
     {
       return hardC < hardK;
