@@ -156,7 +156,7 @@ strata::RawPolylines vtkStrataMeshInput::ToRaw(vtkPolyData* input, const Selecti
       {
         throw strata::InputError("no region arrays: Form = Auto looks for a cell array named '" +
           selection.RegionArray + "' (Loops form) or two named '" + selection.LeftRegionArray +
-          "' and '" + selection.RightRegionArray + "' (Shared curves form)" + arrays);
+          "' and '" + selection.RightRegionArray + "' (Shared curves form)" + sameNames + arrays);
       }
       if (!shared && input->GetCellData()->GetNumberOfArrays() > 1)
       {
