@@ -3131,11 +3131,14 @@ bool Refiner::keepCorner(const SharpCorner& c,
     const double widening = std::sin(c.angle * kPi / 180.0); // the wedge's width per length
     if (cut)
     {
-      // (At a vertex already on the side within a quarter minimumEdgeLength of the cut's
-      // end, rather than beside it; within half of it at the slanted cut's nearer end, where a
-      // vertex left between it and the apex would make a sliver of the tip: the gulf at 1 M.)
-      double at = from[s],
-             closest = (from[s] < from[1 - s] ? 0.5 : 0.25) * this->P.minimumEdgeLength;
+      // (At a vertex already on the side within half a minimumEdgeLength of the cut's end,
+      // rather than beside it: at the slanted cut's nearer end, a vertex left between it and
+      // the apex would make a sliver of the tip (the gulf at 1 M); at the other, the vertex
+      // may end a region boundary of the old mesh that crosses the wedge, across which the cut
+      // could not be recovered without a vertex off the curves, and the extension was undone
+      // (f105 of the faulted sections never seen before: a 3.8-degree pinch-out ended where it
+      // is two finest edges wide, 0.73 local edges from the mesh; a quarter before 2026-12-03).)
+      double at = from[s], closest = 0.5 * this->P.minimumEdgeLength;
       for (double a : onSide[s])
       {
         if (std::fabs(a - from[s]) < closest)

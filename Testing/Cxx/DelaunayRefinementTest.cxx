@@ -782,9 +782,10 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
 
 // The spit of AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide, but with a piece of region 1
 // left inside the tip, cut off from the spit by exterior triangles: a quad from x = 7 to 8.5,
-// just short of the cut (x = 8.58 on one side, 8.82 on the other) by less than the rungs'
+// just short of the cut (x = 8.57 on one side, 8.82 on the other) by less than the rungs'
 // spacing. The piece is no end of the spit's body: the last pass still extends the spit from
-// x = 6 to the cut, and region 1 is then one piece with the same area as before.
+// x = 6 to the cut (whose far end takes the quad's corner at x = 8.5 on its side), and region
+// 1 is then one piece.
 TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
 {
   const double h = 10.0 * std::tan(5.0 * kPi / 180.0);
@@ -819,9 +820,14 @@ TEST(DelaunayRefinementTest, APieceOfASpitLeftInItsTipDoesNotStopTheExtension)
   const RefinementResult r = strata::refineDelaunay(m, middle, p);
   expectValid(m);
   EXPECT_EQ(r.extendedWedges, 1u);
+  // The cut's far end (d0, x = 8.58) is at the piece's corner on that side (x = 8.5, within
+  // half a finest edge of it); its nearer end d1 as computed.
   const double d0 = p.minimumEdgeLength / (2.0 * std::sin(5.0 * kPi / 180.0));
   const double d1 = d0 - p.minimumEdgeLength;
-  EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d1 * std::sin(10.0 * kPi / 180.0), 1e-9);
+  const double corner = 1.5 / std::cos(5.0 * kPi / 180.0);
+  ASSERT_LT(corner - d0, 0.5 * p.minimumEdgeLength);
+  EXPECT_NEAR(
+    regionAreas(m).at(1), 10.0 * h - 0.5 * corner * d1 * std::sin(10.0 * kPi / 180.0), 1e-9);
   // One piece: every triangle of region 1 reached from the first across region 1's edges.
   std::map<std::pair<int, int>, int> edge;
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
