@@ -108,11 +108,29 @@ strata::RawPolylines vtkStrataMeshInput::ToRaw(vtkPolyData* input, const Selecti
   }
   const vtkIdType numberOfPoints = input->GetNumberOfPoints();
   raw.points.resize(static_cast<std::size_t>(numberOfPoints));
+  double zFirst = 0.0;
+  vtkIdType offPlane = -1; // the first point whose z differs from the first point's
   for (vtkIdType i = 0; i < numberOfPoints; ++i)
   {
     double p[3];
     input->GetPoint(i, p);
     raw.points[static_cast<std::size_t>(i)] = { p[0], p[1] };
+    zFirst = i == 0 ? p[2] : zFirst;
+    offPlane = offPlane < 0 && p[2] != zFirst ? i : offPlane;
+  }
+  // The model is the points' (x, y): a z is dropped, with a warning.
+  if (offPlane >= 0)
+  {
+    double p[3];
+    input->GetPoint(offPlane, p);
+    raw.notes.push_back("the input's points are not in one plane z = constant (point 0 has z = " +
+      std::to_string(zFirst) + ", point " + std::to_string(offPlane) +
+      " z = " + std::to_string(p[2]) + "): the model is their projection on z = 0");
+  }
+  else if (numberOfPoints > 0 && zFirst != 0.0)
+  {
+    raw.notes.push_back("the input lies in the plane z = " + std::to_string(zFirst) +
+      "; the mesh is made in the plane z = 0");
   }
   // vtkPolyData orders its cells verts, lines, polys, strips: keep that numbering so that the
   // cell ids in messages are the ones ParaView's spreadsheet shows.

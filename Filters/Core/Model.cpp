@@ -1549,18 +1549,21 @@ Model buildModelChecked(const RawPolylines& input, const ModelParams& params)
 
 Model buildModel(const RawPolylines& input, const ModelParams& params)
 {
-  if (input.formNote.empty())
-  {
-    return buildModelChecked(input, params);
-  }
+  Model model;
   try
   {
-    return buildModelChecked(input, params);
+    model = buildModelChecked(input, params);
   }
   catch (const InputError& e)
   {
+    if (input.formNote.empty())
+    {
+      throw;
+    }
     throw InputError(std::string(e.what()) + " (" + input.formNote + ")");
   }
+  model.warnings.insert(model.warnings.begin(), input.notes.begin(), input.notes.end());
+  return model;
 }
 
 } // namespace strata

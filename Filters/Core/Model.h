@@ -41,6 +41,9 @@ struct RawPolylines
   /// How the caller chose the form and arrays, when that may be the fault: buildModel()
   /// appends it to its InputError messages.
   std::string formNote;
+  /// The caller's own warnings about the input (a z dropped): buildModel() puts them first
+  /// among the model's warnings.
+  std::vector<std::string> notes;
 
   std::size_t numberOfCells() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };

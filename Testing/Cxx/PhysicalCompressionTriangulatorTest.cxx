@@ -10,6 +10,7 @@
 #include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
@@ -291,6 +292,34 @@ TEST(PhysicalCompressionTriangulatorTest, array_names_the_input_lacks_are_named_
   mesher->Update();
   EXPECT_TRUE(log->Errors.empty()) << log->Errors;
   EXPECT_GT(mesher->GetOutput()->GetNumberOfCells(), 0);
+}
+
+TEST(PhysicalCompressionTriangulatorTest, a_z_the_model_drops_is_named_in_a_warning)
+{
+  auto reader = Reader("salt_dome.vtp");
+  reader->Update();
+  for (const bool tilted : { false, true })
+  {
+    vtkNew<vtkPolyData> lifted;
+    lifted->DeepCopy(reader->GetOutput());
+    vtkPoints* points = lifted->GetPoints();
+    for (vtkIdType i = 0; i < points->GetNumberOfPoints(); ++i)
+    {
+      double p[3];
+      points->GetPoint(i, p);
+      points->SetPoint(i, p[0], p[1], tilted && i == 7 ? 6.0 : 5.0);
+    }
+    vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+    mesher->SetInputData(lifted);
+    mesher->SetMaxLevel(9);
+    auto log = Watch(mesher);
+    mesher->Update();
+    EXPECT_TRUE(log->Errors.empty()) << log->Errors;
+    EXPECT_GT(mesher->GetOutput()->GetNumberOfCells(), 0);
+    const char* needle = tilted ? "not in one plane z = constant (point 0 has z = 5.000000, point 7"
+                                : "the input lies in the plane z = 5.000000";
+    EXPECT_NE(log->Warnings.find(needle), std::string::npos) << log->Warnings;
+  }
 }
 
 TEST(PhysicalCompressionTriangulatorTest, empty_model_gives_empty_outputs_and_a_warning)
