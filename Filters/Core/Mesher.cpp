@@ -489,17 +489,27 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
   return farthest > 0.0;
 }
 
-// Whether a vertex of r's approximated boundary lies off the input curves, beyond 1e-9 of the
-// input's size (issue 4's bound; a warning names it): one of the hard bounds by which
-// ThinLayerRetry chooses between two meshes.
-bool boundaryOffCurves(const MesherResult& r, const RawPolylines& input)
+// The bounding-box diagonal of the input's points.
+double inputSize(const RawPolylines& input)
 {
   Box2 box;
   for (const Vec2& p : input.points)
   {
     box.add(p);
   }
-  return r.summary.maxBoundaryVertexDistance > 1e-9 * box.diagonal();
+  return box.diagonal();
+}
+
+// How many of the hard bounds by which ThinLayerRetry chooses between two meshes r misses:
+// issue 5's smallest angle (`angleMiss`, as the caller measures it), every region's area within
+// kAreaBound and, with the `automatic` sizes, no region cut into more pieces than the model
+// has; issue 4's, no vertex of the approximated boundary farther than `offCurve` from the
+// input curves (1e-9 of the input's size; a warning names it).
+int hardMisses(const MesherResult& r, bool angleMiss, bool automatic, double offCurve)
+{
+  return static_cast<int>(angleMiss) + static_cast<int>(r.summary.maxRegionAreaError > kAreaBound) +
+    static_cast<int>(automatic && !r.brokenRegions.empty()) +
+    static_cast<int>(r.summary.maxBoundaryVertexDistance > offCurve);
 }
 
 // Whether the sizes are all the mesher's own: no MaxLevel, LocalMaxLevel, MinimumEdgeLength
@@ -2211,15 +2221,13 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   // degrees with a layer cut into 10 pieces and 2.4% of its area lost, against 28.82 degrees with
   // 0.02%).
   const double hardAngle = std::min(params.refinement.minimumAngle, kFinerRetryAngle);
-  const auto hardMisses = [&](const MesherResult& r)
+  const double offCurve = 1e-9 * inputSize(input);
+  const auto hard = [&](const MesherResult& r)
   {
     const double angle = params.keepSharpCorners ? r.summary.minAngleUnforced : r.summary.minAngle;
-    return static_cast<int>(r.summary.maxRegionAreaError > kAreaBound) +
-      static_cast<int>(unforced && angle < hardAngle - kRetryAngleSlack) +
-      static_cast<int>(automatic && !r.brokenRegions.empty()) +
-      static_cast<int>(boundaryOffCurves(r, input));
+    return hardMisses(r, unforced && angle < hardAngle - kRetryAngleSlack, automatic, offCurve);
   };
-  const int hard1 = hardMisses(first), hard2 = hardMisses(second);
+  const int hard1 = hard(first), hard2 = hard(second);
   const bool keepSecond = second.summary.triangles > 0 && hard1 != hard2
     ? hard2 < hard1
     : ((boundsMiss &&
@@ -2254,7 +2262,7 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
     third = triangulateOnce(input, otherParams, progress.sub(kThinLayerZonedShare, 1.0));
     third->summary.thinLayerMesh = true;
     text += ", then one with it everywhere (" + figures(*third) + ")";
-    const int hard3 = hardMisses(*third), hardKept = hardMisses(*kept);
+    const int hard3 = hard(*third), hardKept = hard(*kept);
     if (third->summary.triangles > 0 &&
       (hard3 != hardKept ? hard3 < hardKept : betterBoundary(*third, *kept)))
     {
@@ -2395,6 +2403,7 @@ MesherResult triangulate(const RawPolylines& input,
   // miss, a smaller area error with a smallest angle no worse (up to 30 degrees); for a
   // region cut, fewer regions cut with a smallest angle and an area no worse; for a boundary
   // miss, a smaller deviation with a smallest angle, an area and the regions cut no worse.
+  const double offCurve = 1e-9 * inputSize(input);
   const auto better = [&](const MesherResult& c, const MesherResult& k, const Misses& m)
   {
     const MesherResult::Summary &s1 = k.summary, &s2 = c.summary;
@@ -2402,13 +2411,8 @@ MesherResult triangulate(const RawPolylines& input,
       angleOf(s2) >= std::min(angleOf(s1), kThinLayerRetryAngle) - kRetryAngleSlack;
     // (The hard bounds first, as in triangulateWithThinLayers: the mesh that misses fewer of
     // them is better, whatever the angles above 25 degrees.)
-    const auto hardMisses = [&](const MesherResult& r)
-    {
-      const Misses m = missesOf(r);
-      return static_cast<int>(m.angle) + static_cast<int>(m.area) + static_cast<int>(m.pieces) +
-        static_cast<int>(boundaryOffCurves(r, input));
-    };
-    const int hardC = hardMisses(c), hardK = hardMisses(k);
+    const int hardC = hardMisses(c, missesOf(c).angle, automaticSizes(params), offCurve);
+    const int hardK = hardMisses(k, missesOf(k).angle, automaticSizes(params), offCurve);
     if (s2.triangles > 0 && hardC != hardK)
     {
       return hardC < hardK;
