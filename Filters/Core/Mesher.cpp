@@ -362,6 +362,9 @@ constexpr double kRetryAngleSlack = 0.05;
 constexpr double kAreaBound = 0.005;
 constexpr double kRetryAngleTrade = 5.0;
 constexpr double kRetryMarginScale = 0.5;
+// A point within this fraction of the model's size of a curve lies on it (issue 4's bound for
+// the approximated boundary's vertices).
+constexpr double kOnCurve = 1e-9;
 // ThinLayerRetry: a first mesh below min(MinimumAngle, this) - kRetryAngleSlack degrees, or
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
@@ -504,7 +507,7 @@ double inputSize(const RawPolylines& input)
 // issue 5's smallest angle (`angleMiss`, as the caller measures it), every region's area within
 // kAreaBound and, with the `automatic` sizes, no region cut into more pieces than the model
 // has; issue 4's, no vertex of the approximated boundary farther than `offCurve` from the
-// input curves (1e-9 of the input's size; a warning names it).
+// input curves (kOnCurve of the input's size; a warning names it).
 int hardMisses(const MesherResult& r, bool angleMiss, bool automatic, double offCurve)
 {
   return static_cast<int>(angleMiss) + static_cast<int>(r.summary.maxRegionAreaError > kAreaBound) +
@@ -674,7 +677,7 @@ void refineCompressed(CompressionResult& compressed,
   MesherResult& result)
 {
   StripTreeScratch scratch;
-  const double onCurveTolerance = 1e-9 * model.size(); // a point this close lies on a curve
+  const double onCurveTolerance = kOnCurve * model.size();
   // The curves' segments in the rails' order (chain by chain) in cells about half the median
   // longest edge wide: most bounded queries (a triangle's reach) are answered by the cells,
   // exactly as the strip tree would (see SegmentGrid), and only the others by the tree.
@@ -2041,7 +2044,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
         finest);
       result.warnings.push_back(text);
     }
-    if (maxVertex > 1e-9 * model.size())
+    if (maxVertex > kOnCurve * model.size())
     {
       result.warnings.push_back("a vertex of the approximated boundary lies " +
         std::to_string(maxVertex) + " model units off the input curves");
@@ -2221,7 +2224,7 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
   // degrees with a layer cut into 10 pieces and 2.4% of its area lost, against 28.82 degrees with
   // 0.02%).
   const double hardAngle = std::min(params.refinement.minimumAngle, kFinerRetryAngle);
-  const double offCurve = 1e-9 * inputSize(input);
+  const double offCurve = kOnCurve * inputSize(input);
   const auto hard = [&](const MesherResult& r)
   {
     const double angle = params.keepSharpCorners ? r.summary.minAngleUnforced : r.summary.minAngle;
@@ -2403,7 +2406,7 @@ MesherResult triangulate(const RawPolylines& input,
   // miss, a smaller area error with a smallest angle no worse (up to 30 degrees); for a
   // region cut, fewer regions cut with a smallest angle and an area no worse; for a boundary
   // miss, a smaller deviation with a smallest angle, an area and the regions cut no worse.
-  const double offCurve = 1e-9 * inputSize(input);
+  const double offCurve = kOnCurve * inputSize(input);
   const auto better = [&](const MesherResult& c, const MesherResult& k, const Misses& m)
   {
     const MesherResult::Summary &s1 = k.summary, &s2 = c.summary;
