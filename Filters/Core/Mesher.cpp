@@ -21,7 +21,7 @@
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation both ways, its
 //                       distances through SegmentGrids first, and over the local edge: the
-//                       curves sampled every half finest edge on two threads, region areas),
+//                       curves sampled every quarter finest edge on two threads, region areas),
 //                       regions keeping less than half their area reported by id, and
 //                       regions cut into more pieces than the model has (pieces joined
 //                       across edges, at least 4 median boundary edges squared)
@@ -372,12 +372,15 @@ constexpr double kThinLayerRetryAngle = 30.0;
 // boundary deviation above this many local edges there, outside regions narrower than the
 // finest edge (Summary::maxRelativeDeviation; issue 5's bound).
 constexpr double kDeviationBound = 0.5;
+// ... where a curve point beside a region narrower than the finest edge is left out: narrower
+// across, or the disc of that diameter touching the point, shrunk by this fraction, is cut.
+constexpr double kNarrowMargin = 0.1;
 // ... and the finer level's retry (4 levels: 2 to 4 times the first mesh's cost) after a
 // boundary miss only beyond this: Marmousi with ThinLayerRefinement on keeps a mesh at 0.501,
 // whose finer mesh is not better (1.2 -> 3.3 s for nothing); misses by a hair are named in
 // the warning.
 constexpr double kFinerDeviationBound = 0.55;
-constexpr int kDeviationSamples = 256; // curve -> mesh samples per model segment, at most
+constexpr int kDeviationSamples = 512;   // curve -> mesh samples per model segment, at most
 constexpr std::size_t kMaxMisses = 1024; // MesherResult::boundaryMisses, at most
 constexpr double kMissSpacing = 2.0;     // ... about this many local edges apart
 // ThinLayerRetry's second mesh after a boundary miss only: the thin layer refinement within
@@ -1877,7 +1880,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
         b.push_back(c.points[i + 1]);
         h.push_back(localEdge(ids[i], ids[i + 1]));
         maxVertex = std::max(maxVertex, toCurves(c.points[i]));
-        for (double f : { 0.2, 0.4, 0.6, 0.8 })
+        for (double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
         {
           const Vec2 q = c.points[i] + f * (c.points[i + 1] - c.points[i]);
           const double d = toCurves(q);
@@ -1920,10 +1923,39 @@ MesherResult triangulateOnce(const RawPolylines& input,
         segment = nearest.segment;
         return std::sqrt(nearest.distance2);
       };
+      // Whether the region beside p (on a curve), on the side of the unit normal u, is narrower
+      // than `width` there: the ray from p along u meets another curve within `width` (a layer
+      // across), or the disc of diameter `width` touching p on that side, shrunk by
+      // kNarrowMargin, is cut by a curve (a thin region's end, a corner sharper than about
+      // 155 degrees; the margin leaves out the next segment where p's curve bends less, which
+      // cuts the unshrunk disc at any bend: lake shores' inlets a few finest edges wide were
+      // left out unseen so). The ray by sphere tracing with the distance to the curves (p's
+      // own segment lies t away at p + t u, so the steps grow geometrically; a curve crossed is
+      // reached within 1e-3 t); a grazing ray not settled in 96 steps counts as free.
+      const auto narrow = [&](Vec2 p, Vec2 u, double width, StripTreeScratch& heap)
+      {
+        double disc = 0.0;
+        rails.closest(p + 0.5 * width * u, heap, &disc, 0.5 * width);
+        if (disc < (1.0 - kNarrowMargin) * 0.5 * width)
+        {
+          return true;
+        }
+        double t = 1e-4 * width;
+        for (int k = 0; k < 96 && t < width; ++k)
+        {
+          double step = 0.0;
+          rails.closest(p + t * u, heap, &step, width - t);
+          if (step < 1e-3 * t)
+          {
+            return true;
+          }
+          t += step;
+        }
+        return false;
+      };
       // d, p's distance to the mesh's boundary, against the local edge at the boundary's edge
       // nearest p; none when p, on a curve of unit normal n, bounds a region narrower than
-      // the finest edge (another curve within half of it from p + n finest / 2 or p - n
-      // finest / 2, i.e. within about the finest edge of p across either region).
+      // the finest edge on either side (narrow(); as the quality table measures).
       const auto relativeTo = [&](Vec2 p, Vec2 n, double d, int s, Part& part)
       {
         if (s < 0)
@@ -1934,9 +1966,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
         {
           return; // (the probes below only for a new largest or a miss)
         }
-        for (const double side : { 0.5 * finest, -0.5 * finest })
+        for (const double side : { 1.0, -1.0 })
         {
-          if (toCurvesWith(p + side * n, part.heap) < (0.5 - 1e-6) * finest)
+          if (narrow(p, side * n, finest, part.heap))
           {
             return;
           }
@@ -1985,11 +2017,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
           const Vec2 p = c.points[k], r = c.points[(k + 1) % n];
           const double length = norm(r - p);
           const Vec2 normal = length > 0.0 ? (1.0 / length) * Vec2{ p.y - r.y, r.x - p.x } : Vec2{};
-          // Five samples per segment, or one every half finest edge (up to kDeviationSamples;
-          // as the quality table samples): only a lost piece shorter than a finest edge may
+          // Five samples per segment, or one every quarter finest edge (up to
+          // kDeviationSamples; twice as dense as the quality table's, so that a peak between
+          // two samples is seen with it): only a lost piece shorter than a finest edge may
           // fall between them.
-          const int m = static_cast<int>(
-            std::min<double>(kDeviationSamples, std::max(5.0, std::ceil(length / (0.5 * finest)))));
+          const int m = static_cast<int>(std::min<double>(
+            kDeviationSamples, std::max(5.0, std::ceil(length / (0.25 * finest)))));
           for (int j = 0; j < m; ++j)
           {
             const double f = static_cast<double>(j) / m;

@@ -162,13 +162,16 @@ struct MesherResult
     double percentAngles30to60 = 0.0;      ///< percent of all angles in [30, 60]
     double percentTriangles30to60 = 0.0;   ///< percent of triangles, smallest angle in [30, 60]
     /// Largest distance (model units) between the approximated boundary and the input curves,
-    /// both ways (Hausdorff, sampled at five points per edge / segment).
+    /// both ways (Hausdorff; the boundary sampled every eighth of an edge, the curves at five
+    /// points per segment at least).
     double maxBoundaryDeviation = 0.0;
     /// The largest of the deviations above, each divided by the local edge there (the mean
     /// edge length of the triangles beside the approximated boundary's nearest edge), the
-    /// input curves sampled every half finest edge, leaving out the curve points beside a
-    /// region narrower than finestEdgeLength (issue 5's exemption) and the points of the
-    /// approximated boundary within finestEdgeLength of the curves; 0 when there is none.
+    /// input curves sampled every quarter finest edge, leaving out the curve points beside a
+    /// region narrower than finestEdgeLength (issue 5's exemption: another curve within it
+    /// along the curve's normal, or the disc of that diameter touching the point, shrunk by
+    /// 10%, cut by a curve) and the points of the approximated boundary within
+    /// finestEdgeLength of the curves; 0 when there is none.
     /// Above 0.5 (issue 5's bound is half the local edge) a piece of a region that the finest
     /// edges could represent is lost to its neighbour (or one is added).
     double maxRelativeDeviation = 0.0;

@@ -10,10 +10,14 @@ its own: the boundary deviation over the *local* edge length (issue 4's "at most
 edge length", issue 5's "within half the local edge length ... both ways"): points every
 eighth of a mesh boundary edge and every half of the finest edge length along the input
 curves (the tool's `finest_edge_length`), each one's exact distance to the other side's
-segments divided by the mean edge length of the mesh triangle nearest to it (by centroid).
+segments divided by the local edge length there: the mean edge length of the (one or two)
+mesh triangles beside the mesh boundary edge that realizes the distance (the edge a mesh
+sample lies on; the boundary edge nearest a curve sample), the mesher's own definition
+(`MaxRelativeBoundaryDeviation`).
 It is given twice: over all points, and without the curve points inside a region narrower
-than the finest edge length (issue 5's exemption; `--exempt-width` scales that width): the
-thinner region beside such a point, measured along the curve's normal both ways.
+than the finest edge length (issue 5's exemption; `--exempt-width` scales that width), on
+either side of the curve: another curve within that width along the curve's normal, or the
+disc of that diameter touching the point, shrunk by 10%, cut by a curve (see narrow()).
 With `--models FILE_OR_DIR ...` it meshes those models instead (every .vtp of a folder, e.g.
 the output of random_faulted_sections.py), one row each (a failed run or check is a row with
 its error), and prints the counts issue 5 asks about under the table.
@@ -81,25 +85,42 @@ def sample_with_owner(P, Q, step):
 
 
 def exact_distances(points, A, B, step, todo):
-    """Distances from `points` to the nearest of the segments AB: within step / 2 for all
-    points (through samples `step` apart), exact for the points where `todo` is true (the
-    segments with a sample within the approximate distance + step / 2 hold the nearest)."""
+    """Distances from `points` to the nearest of the segments AB, and that segment's index:
+    within step / 2 for all points (through samples `step` apart), exact for the points where
+    `todo(distance, segment)` is true (the segments with a sample within the approximate
+    distance + step / 2 hold the nearest)."""
     samples, owner = sample_with_owner(A, B, step)
     tree = cKDTree(samples)
-    d, _ = tree.query(points)
-    for i in np.nonzero(todo(d))[0]:
+    d, k = tree.query(points)
+    seg = owner[k]
+    for i in np.nonzero(todo(d, seg))[0]:
         segs = np.unique(owner[tree.query_ball_point(points[i], d[i] + 0.5 * step * 1.001)])
         a, ab = A[segs], B[segs] - A[segs]
         t = np.clip(((points[i] - a) * ab).sum(1) / np.maximum((ab * ab).sum(1), 1e-300), 0, 1)
-        d[i] = min(d[i], float(np.linalg.norm(a + t[:, None] * ab - points[i], axis=1).min()))
-    return d
+        dist = np.linalg.norm(a + t[:, None] * ab - points[i], axis=1)
+        j = int(np.argmin(dist))
+        if dist[j] <= d[i]:
+            d[i], seg[i] = float(dist[j]), segs[j]
+    return d, seg
 
 
-def region_width(x, seg, P, Q):
-    """Width of the thinner of the two regions a curve point x on segment `seg` bounds: the
-    distance along the segment's normal, either way, to the nearest other model segment. At a
-    segment's end (a corner's apex) it is measured a hair inside the segment: 0 at a sharp
-    corner's apex, as just beside it."""
+NARROW_MARGIN = 0.1  # as the mesher's kNarrowMargin
+
+
+def segment_distances(x, P, Q):
+    """Distances from the point x to every segment PQ."""
+    pq = Q - P
+    t = np.clip(((x - P) * pq).sum(1) / np.maximum((pq * pq).sum(1), 1e-300), 0, 1)
+    return np.linalg.norm(P + t[:, None] * pq - x, axis=1)
+
+
+def narrow(x, seg, P, Q, width):
+    """Whether a curve point x on segment `seg` bounds a region narrower than `width` there,
+    on either side (the mesher's definition): along the segment's normal another curve
+    within `width` (a layer across), or the disc of diameter `width` touching x on that side,
+    shrunk by NARROW_MARGIN, cut by a curve (a thin region's end, a corner sharper than about
+    155 degrees). At a segment's end (a corner's apex) it is measured a hair inside the
+    segment."""
     x = x + 1e-4 * (0.5 * (P[seg] + Q[seg]) - x)
     scale = 1.0 + np.abs(x).max()
     # The segment itself, and its twin in the other region's ring (the Loops form).
@@ -107,8 +128,9 @@ def region_width(x, seg, P, Q):
         (np.all(P == Q[seg], axis=1) & np.all(Q == P[seg], axis=1))
     u = Q[seg] - P[seg]
     u = u / max(np.linalg.norm(u), 1e-300)
-    width = np.inf
     for n in (np.array([-u[1], u[0]]), np.array([u[1], -u[0]])):
+        if segment_distances(x + 0.5 * width * n, P, Q).min() < (1 - NARROW_MARGIN) * 0.5 * width:
+            return True
         # x + s n = P + r (Q - P): solve for s > 0, r in [0, 1] over all segments.
         e = Q - P
         den = n[0] * e[:, 1] - n[1] * e[:, 0]
@@ -118,17 +140,17 @@ def region_width(x, seg, P, Q):
         r = np.where(ok, (w[:, 0] * n[1] - w[:, 1] * n[0]) / np.where(ok, den, 1), -1)
         hit = ok & (r >= 0) & (r <= 1) & (s > 1e-9 * scale)
         hit[same] = False
-        if hit.any():
-            width = min(width, float(s[hit].min()))
-    return width
+        if hit.any() and float(s[hit].min()) < width:
+            return True
+    return False
 
 
 def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
     """Largest two-way boundary distance over the local edge length (see the module doc):
-    (over all samples, over those not exempt). A curve sample is exempt when the thinner
-    region beside it is narrower than `finest` (the tool's finest edge length) along the
-    curve's normal: issue 5's "except inside a region narrower than the finest edge length"
-    (`exempt_width` finest edges: 1 for the issue's bound)."""
+    (over all samples, over those not exempt). A curve sample is exempt when a region beside
+    it is narrower than `finest` (the tool's finest edge length) there (narrow()): issue 5's
+    "except inside a region narrower than the finest edge length" (`exempt_width` finest
+    edges: 1 for the issue's bound)."""
     model = mc.read(model_path)
     pts, tris, reg, _ = mc.mesh_arrays(mc.read(mesh_path), "RegionId")
     e, key, owner = mc.edges_of(tris)
@@ -145,23 +167,32 @@ def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
     P, Q = P[keep], Q[keep]
     A, B = pts[bedges[:, 0]], pts[bedges[:, 1]]
     tri_pts = pts[tris]
-    local = np.mean([np.linalg.norm(tri_pts[:, i] - tri_pts[:, (i + 1) % 3], axis=1)
-                     for i in range(3)], axis=0)
-    centroids = cKDTree(tri_pts.mean(axis=1))
+    tri_edge = np.mean([np.linalg.norm(tri_pts[:, i] - tri_pts[:, (i + 1) % 3], axis=1)
+                        for i in range(3)], axis=0)
+    # The local edge of each boundary edge: the mean of its (one or two) triangles'.
+    local = np.array([np.mean(tri_edge[faces[tuple(k)]]) for k in bedges])
     step = 0.5 * finest
     # Mesh -> curves: eight samples per boundary edge; curves -> mesh: every half finest edge.
     s_mesh = (A[:, None, :] + np.linspace(0, 1, 9)[None, :, None] * (B - A)[:, None, :]).reshape(-1, 2)
     s_in, s_seg = sample_with_owner(P, Q, step)
     worst, worst_kept = 0.0, 0.0
+    h_mesh = np.repeat(local, 9)
     for samples, (a, b), curve in ((s_mesh, (P, Q), False), (s_in, (A, B), True)):
-        h = local[centroids.query(samples)[1]]
-        d = exact_distances(samples, a, b, 0.5 * step, lambda approx: approx > 0.4 * h)
+        if curve:
+            # Exact from a quarter of the sampled nearest edge's local edge on (the exact
+            # nearest edge's may be smaller: neighbouring edges' differ by less than 2x).
+            d, nearest = exact_distances(samples, a, b, 0.5 * step,
+                                         lambda approx, e: approx > 0.25 * local[e])
+            h = local[nearest]
+        else:
+            h = h_mesh
+            d, _ = exact_distances(samples, a, b, 0.5 * step, lambda approx, e: approx > 0.4 * h)
         ratio = d / h
         worst = max(worst, float(ratio.max()))
         exempt = np.zeros(len(samples), dtype=bool)
         if curve:
             for i in np.nonzero(ratio > 0.5)[0]:
-                exempt[i] = region_width(samples[i], s_seg[i], P, Q) < exempt_width * finest
+                exempt[i] = narrow(samples[i], s_seg[i], P, Q, exempt_width * finest)
         worst_kept = max(worst_kept, float(ratio[~exempt].max()))
     return worst, worst_kept
 
