@@ -307,8 +307,8 @@ public:
    *   `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
-   *   the automatic sizes, no region cut; every vertex of the approximated boundary on a curve)
-   *   is kept. Between equals: the larger smallest angle
+   *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary
+   *   on a curve) is kept. Between equals: the larger smallest angle
    *   (up to 30 degrees), or for an area miss the smaller area error, for the pieces fewer
    *   regions cut, for the boundary the smaller deviation, none of the others worse.
    * A warning gives every mesh's figures. With KeepSharpCorners the smallest angle here is the

@@ -39,8 +39,13 @@
 //    compression left the vertex beside a model corner, off the curve, so no split fits there
 //    and 2b's retag refused the triangle (a lake's shore cut by a chord across its 88-degree
 //    corner of land, and another across a bay's bend: 0.57 and 0.67 -> 0.47 and 0.49 local
-//    edges). An edge whose stretch's farthest point is a model corner (RefinementParams::
-//    modelCorner: sharper than FeatureAngle) with straight sides (their stretches within
+//    edges). Whatever the area too, an edge whose stretch's farthest point lies more than
+//    kChordLocal local edges from it (the mean edge of its triangles, or its length when
+//    shorter) and more than minimumEdgeLength is split there: issue 5's boundary bound, which
+//    a region-relative area never sees on a large region's shore (a lake's island whose bulge,
+//    two finest edges deep, a chord cut off: 0.52 -> 0.49 local edges). An edge whose
+//    stretch's farthest point is a model corner (RefinementParams::modelCorner: sharper than
+//    FeatureAngle) with straight sides (their stretches within
 //    kCornerStraight of their lengths: without that check the corners of wiggly shores were
 //    split too, at coarse levels down to 28.5 degrees) is split there whatever the area when
 //    the corner lies more than kSnapChord of its length from it; else, or when the split is refused
@@ -323,6 +328,8 @@ constexpr double kCornerStraight = 0.05; // 2b': ... and its sides' stretches th
                                          // straight (relative to their lengths)
 constexpr double kSnapChord = 0.25; // 2b': a chord whose curve point lies this many of its
                                     // lengths from it, with a free vertex beside that point
+constexpr double kChordLocal = 0.4; // 2b': a chord whose curve point lies this many local
+                                    // edges from it (and a finest edge) is split there
 
 // > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
 // beyond a relative rounding margin.
@@ -1735,7 +1742,21 @@ std::size_t Refiner::followCurves()
       const bool corner = off > kCornerOff * l * l && this->P.modelCorner &&
         this->P.modelCorner(w) && this->straightTo(a, w, left, right) &&
         this->straightTo(w, b, left, right);
-      if ((deviation > bound || (corner && off > kSnapChord * l * l)) &&
+      // A chord whose stretch lies farther than kChordLocal local edges from it (the mean
+      // edge of the triangles beside it, or its length when shorter: the refinement makes
+      // them about as long as the chord) and than a finest edge: issue 5's boundary bound,
+      // which no area bound sees on a large region's shore (a lake's island whose bulge a
+      // chord cut off, 0.52 local edges).
+      const auto meanEdge = [&](int v)
+      {
+        const auto& tri = this->M.triangles[v];
+        const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
+        return (norm(q - p) + norm(r - q) + norm(p - r)) / 3.0;
+      };
+      const double local = std::min(
+        l, u >= 0 && this->M.region[u] >= 0 ? 0.5 * (meanEdge(t) + meanEdge(u)) : meanEdge(t));
+      const bool far = off > l * std::max(kChordLocal * local, this->P.minimumEdgeLength);
+      if ((deviation > bound || far || (corner && off > kSnapChord * l * l)) &&
         std::min(norm(w - a), norm(w - b)) >= kFloor * this->P.minimumEdgeLength &&
         this->splitEdge(t, k, w, created))
       {

@@ -508,13 +508,16 @@ double inputSize(const RawPolylines& input)
 
 // How many of the hard bounds by which ThinLayerRetry chooses between two meshes r misses:
 // issue 5's smallest angle (`angleMiss`, as the caller measures it), every region's area within
-// kAreaBound and, with the `automatic` sizes, no region cut into more pieces than the model
-// has; issue 4's, no vertex of the approximated boundary farther than `offCurve` from the
-// input curves (kOnCurve of the input's size; a warning names it).
+// kAreaBound and, with the `automatic` sizes, every region kept whole: none cut into more
+// pieces than the model has, none keeping less than half its area (unresolvedRegions: a layer
+// lost is no better than one cut; without the curve recovery thin_layer's mesh keeping 7% of
+// its layer had won over the one keeping 83% in 2 pieces); issue 4's, no vertex of the
+// approximated boundary farther than `offCurve` from the input curves (kOnCurve of the
+// input's size; a warning names it).
 int hardMisses(const MesherResult& r, bool angleMiss, bool automatic, double offCurve)
 {
   return static_cast<int>(angleMiss) + static_cast<int>(r.summary.maxRegionAreaError > kAreaBound) +
-    static_cast<int>(automatic && !r.brokenRegions.empty()) +
+    static_cast<int>(automatic && (!r.brokenRegions.empty() || !r.unresolvedRegions.empty())) +
     static_cast<int>(r.summary.maxBoundaryVertexDistance > offCurve);
 }
 
@@ -1867,6 +1870,48 @@ MesherResult triangulateOnce(const RawPolylines& input,
       }
       return n > 0 ? sum / n : 0.0;
     };
+    // Whether the region beside p (on a curve), on the side of the unit normal u, is narrower
+    // than `width` there: the ray from p along u meets another curve within `width` (a layer
+    // across), or the disc of diameter `width` touching p on that side, shrunk by
+    // kNarrowMargin, is cut by a curve (a thin region's end, a corner sharper than about
+    // 155 degrees; the margin leaves out the next segment where p's curve bends less, which
+    // cuts the unshrunk disc at any bend: lake shores' inlets a few finest edges wide were
+    // left out unseen so). The ray by sphere tracing with the distance to the curves (p's
+    // own segment lies t away at p + t u, so the steps grow geometrically; a curve crossed is
+    // reached within 1e-3 t); a grazing ray not settled in 96 steps counts as free.
+    const auto narrow = [&](Vec2 p, Vec2 u, double width, StripTreeScratch& heap)
+    {
+      double disc = 0.0;
+      rails.closest(p + 0.5 * width * u, heap, &disc, 0.5 * width);
+      if (disc < (1.0 - kNarrowMargin) * 0.5 * width)
+      {
+        return true;
+      }
+      double t = 1e-7 * width; // (below the width of a 1-degree spike beside its apex)
+      for (int k = 0; k < 96 && t < width; ++k)
+      {
+        double step = 0.0;
+        rails.closest(p + t * u, heap, &step, width - t);
+        if (step < 1e-3 * t)
+        {
+          return true;
+        }
+        t += step;
+      }
+      return false;
+    };
+    // Whether the curves' point nearest p is beside a region narrower than the finest edge.
+    const auto nearNarrow = [&](Vec2 p)
+    {
+      const auto l = rails.closest(p, scratch);
+      if (l.chain < 0)
+      {
+        return false;
+      }
+      const Vec2 x = rails.position(l), u = rails.tangent(l);
+      return narrow(x, Vec2{ -u.y, u.x }, finest, scratch) ||
+        narrow(x, Vec2{ u.y, -u.x }, finest, scratch);
+    };
     std::vector<Vec2> a, b;
     std::vector<double> h; // localEdge of segment a -> b
     for (std::size_t ci = 0; ci < result.boundary.size(); ++ci)
@@ -1885,7 +1930,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
           const Vec2 q = c.points[i] + f * (c.points[i + 1] - c.points[i]);
           const double d = toCurves(q);
           maxMeshToModel = std::max(maxMeshToModel, d);
-          if (d > finest && h.back() > 0.0)
+          // (the nearest curve point's region test only for a new largest or a miss)
+          if (h.back() > 0.0 && d > std::min(boundaryPart.relative, kDeviationBound) * h.back() &&
+            !nearNarrow(q))
           {
             boundaryPart.note(d, h.back(), q);
           }
@@ -1922,36 +1969,6 @@ MesherResult triangulateOnce(const RawPolylines& input,
         nearest = tree.nearest(p, part.heap);
         segment = nearest.segment;
         return std::sqrt(nearest.distance2);
-      };
-      // Whether the region beside p (on a curve), on the side of the unit normal u, is narrower
-      // than `width` there: the ray from p along u meets another curve within `width` (a layer
-      // across), or the disc of diameter `width` touching p on that side, shrunk by
-      // kNarrowMargin, is cut by a curve (a thin region's end, a corner sharper than about
-      // 155 degrees; the margin leaves out the next segment where p's curve bends less, which
-      // cuts the unshrunk disc at any bend: lake shores' inlets a few finest edges wide were
-      // left out unseen so). The ray by sphere tracing with the distance to the curves (p's
-      // own segment lies t away at p + t u, so the steps grow geometrically; a curve crossed is
-      // reached within 1e-3 t); a grazing ray not settled in 96 steps counts as free.
-      const auto narrow = [&](Vec2 p, Vec2 u, double width, StripTreeScratch& heap)
-      {
-        double disc = 0.0;
-        rails.closest(p + 0.5 * width * u, heap, &disc, 0.5 * width);
-        if (disc < (1.0 - kNarrowMargin) * 0.5 * width)
-        {
-          return true;
-        }
-        double t = 1e-4 * width;
-        for (int k = 0; k < 96 && t < width; ++k)
-        {
-          double step = 0.0;
-          rails.closest(p + t * u, heap, &step, width - t);
-          if (step < 1e-3 * t)
-          {
-            return true;
-          }
-          t += step;
-        }
-        return false;
       };
       // d, p's distance to the mesh's boundary, against the local edge at the boundary's edge
       // nearest p; none when p, on a curve of unit normal n, bounds a region narrower than

@@ -170,8 +170,8 @@ struct MesherResult
     /// input curves sampled every quarter finest edge, leaving out the curve points beside a
     /// region narrower than finestEdgeLength (issue 5's exemption: another curve within it
     /// along the curve's normal, or the disc of that diameter touching the point, shrunk by
-    /// 10%, cut by a curve) and the points of the approximated boundary within
-    /// finestEdgeLength of the curves; 0 when there is none.
+    /// 10%, cut by a curve) and the points of the approximated boundary whose nearest curve
+    /// point is beside such a region; 0 when there is none.
     /// Above 0.5 (issue 5's bound is half the local edge) a piece of a region that the finest
     /// edges could represent is lost to its neighbour (or one is added).
     double maxRelativeDeviation = 0.0;

@@ -14,10 +14,11 @@ segments divided by the local edge length there: the mean edge length of the (on
 mesh triangles beside the mesh boundary edge that realizes the distance (the edge a mesh
 sample lies on; the boundary edge nearest a curve sample), the mesher's own definition
 (`MaxRelativeBoundaryDeviation`).
-It is given twice: over all points, and without the curve points inside a region narrower
-than the finest edge length (issue 5's exemption; `--exempt-width` scales that width), on
-either side of the curve: another curve within that width along the curve's normal, or the
-disc of that diameter touching the point, shrunk by 10%, cut by a curve (see narrow()).
+It is given twice: over all points, and without the points inside a region narrower than
+the finest edge length (issue 5's exemption; `--exempt-width` scales that width): the curve
+points, and the mesh points whose nearest curve point, beside such a region on either side of
+the curve: another curve within that width along the curve's normal, or the disc of that
+diameter touching the point, shrunk by 10%, cut by a curve (see narrow()).
 With `--models FILE_OR_DIR ...` it meshes those models instead (every .vtp of a folder, e.g.
 the output of random_faulted_sections.py), one row each (a failed run or check is a row with
 its error), and prints the counts issue 5 asks about under the table.
@@ -148,7 +149,8 @@ def narrow(x, seg, P, Q, width):
 def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
     """Largest two-way boundary distance over the local edge length (see the module doc):
     (over all samples, over those not exempt). A curve sample is exempt when a region beside
-    it is narrower than `finest` (the tool's finest edge length) there (narrow()): issue 5's
+    it is narrower than `finest` (the tool's finest edge length) there (narrow()), a mesh
+    sample when a region beside its nearest curve point is: issue 5's
     "except inside a region narrower than the finest edge length" (`exempt_width` finest
     edges: 1 for the issue's bound)."""
     model = mc.read(model_path)
@@ -186,13 +188,18 @@ def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
             h = local[nearest]
         else:
             h = h_mesh
-            d, _ = exact_distances(samples, a, b, 0.5 * step, lambda approx, e: approx > 0.4 * h)
+            d, nearest = exact_distances(samples, a, b, 0.5 * step, lambda approx, e: approx > 0.4 * h)
         ratio = d / h
         worst = max(worst, float(ratio.max()))
         exempt = np.zeros(len(samples), dtype=bool)
-        if curve:
-            for i in np.nonzero(ratio > 0.5)[0]:
+        for i in np.nonzero(ratio > 0.5)[0]:
+            if curve:
                 exempt[i] = narrow(samples[i], s_seg[i], P, Q, exempt_width * finest)
+            else:
+                # A mesh sample whose nearest curve point is beside a narrow region.
+                s, pq = nearest[i], Q[nearest[i]] - P[nearest[i]]
+                t = np.clip(np.dot(samples[i] - P[s], pq) / max(np.dot(pq, pq), 1e-300), 0, 1)
+                exempt[i] = narrow(P[s] + t * pq, s, P, Q, exempt_width * finest)
         worst_kept = max(worst_kept, float(ratio[~exempt].max()))
     return worst, worst_kept
 

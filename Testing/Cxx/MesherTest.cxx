@@ -467,9 +467,9 @@ namespace
 // distance from points every eighth of a mesh boundary edge to the model's curves, and from
 // points every half finest edge along the curves to the mesh boundary, each over the local
 // edge there: the mean edge length of the triangles beside the mesh boundary edge the sample
-// lies on, or nearest it (the mesher's definition); curve points where the thinner region
-// beside the curve, along its normal, is narrower than the finest edge are left out (the
-// issue's exemption).
+// lies on, or nearest it (the mesher's definition); the points beside a region narrower than
+// the finest edge are left out (the issue's exemption; for a mesh point, its nearest curve
+// point beside one).
 double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::MesherResult& r)
 {
   const double finest = r.summary.finestEdgeLength;
@@ -552,7 +552,14 @@ double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::
     for (int k = 0; k <= 8; ++k)
     {
       const Vec2 x = ba[s] + (k / 8.0) * (bb[s] - ba[s]);
-      worst = std::max(worst, std::sqrt(modelTree.nearest(x, scratch).distance2) / local[s]);
+      const strata::NearestSegment nearest = modelTree.nearest(x, scratch);
+      const double ratio = std::sqrt(nearest.distance2) / local[s];
+      const auto m = static_cast<std::size_t>(nearest.segment);
+      if (ratio > std::max(worst, 0.5) && narrow(ma[m] + nearest.t * (mb[m] - ma[m]), m))
+      {
+        continue; // its nearest curve point is beside a region narrower than the finest edge
+      }
+      worst = std::max(worst, ratio);
     }
   }
   for (std::size_t s = 0; s < ma.size(); ++s)
@@ -647,6 +654,9 @@ TEST_P(DefaultQuality, AnglesAreasAndBoundaryStayWithinTheirBounds)
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005); // issue 5's 0.5%, on every model
   const strata::Model model = strata::buildModel(raw);
   EXPECT_LE(boundaryDeviationOverLocalEdge(model, r), c.deviation);
+  // The mesher's own measure agrees (a sample beside a thin spike's apex, taken for wide,
+  // made lake_superior three times over for the same mesh).
+  EXPECT_LE(r.summary.maxRelativeDeviation, c.deviation);
   // Each corner of the model's box that is a point of its curves (a section's box) is a mesh
   // vertex, as the junctions are (thin_layer's (1000, 0) was cut by a chord before).
   const strata::Box2 b = model.bounds;
@@ -906,6 +916,23 @@ TEST(MesherTest, RegionAreasMoreThanTenPercentOffAreWarned)
   EXPECT_NE(countries.find("7 (-"), std::string::npos) << countries;
   EXPECT_NE(countries.find("8 (-"), std::string::npos) << countries;
   EXPECT_EQ(warnings("salt_dome.vtp").find("more than 10% off"), std::string::npos);
+}
+
+// A region lost is a hard miss, as a region cut is (ThinLayerRetry's choice): without the curve
+// recovery, thin_layer's first mesh keeps 7% of its layer (12.9 degrees), the one with
+// ThinLayerRefinement 83% in two pieces (21.8 degrees); both miss the angle and the area
+// bounds, and the second is kept (from 2026-12-03 until a lost region counted, the first was).
+TEST(MesherTest, AMeshThatLosesARegionIsNotKeptOverOneThatCutsIt)
+{
+  strata::MesherParams p;
+  p.curveRecovery = false;
+  const strata::MesherResult r =
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("thin_layer.vtp")), p);
+  EXPECT_TRUE(r.unresolvedRegions.empty());
+  EXPECT_LT(r.summary.maxRegionAreaError, 0.5);
+  EXPECT_TRUE(r.summary.thinLayerMesh);
+  const std::string warnings = allWarnings(r);
+  EXPECT_NE(warnings.find("the second one is kept"), std::string::npos) << warnings;
 }
 
 // A wedge (region 1) of the given angle (degrees) from the middle of a 100 x 100 square's left
@@ -1631,6 +1658,22 @@ TEST(MesherTest, AnInletBesideABendOfTheShoreIsNotTakenForANarrowRegion)
 {
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("island_inlet_lake.vtp"));
+  const strata::MesherResult r = strata::triangulate(raw);
+  ASSERT_GT(r.triangles.size(), 10000u);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
+  EXPECT_GE(r.summary.minAngle, 29.9);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+}
+
+// A boundary edge that cuts off a bulge of an island deeper than 0.4 of the local edge (and a
+// finest edge) is split at the bulge's farthest point, whatever the area (bulge_island_lake.vtp:
+// an edge 17.6 long, the bulge 8.1 deep, triangles about 15 long beside it; the area bound,
+// relative to the lake, never saw it: 0.52 local edges, under the finer level's 0.55).
+TEST(MesherTest, AnIslandsBulgeCutOffByALongEdgeIsFollowed)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("bulge_island_lake.vtp"));
   const strata::MesherResult r = strata::triangulate(raw);
   ASSERT_GT(r.triangles.size(), 10000u);
   EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
