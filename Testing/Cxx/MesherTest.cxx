@@ -1645,6 +1645,22 @@ TEST(MesherTest, AMeshWithABoundaryVertexOffTheCurvesIsNotKept)
   EXPECT_NE(warnings.find("the third one is kept"), std::string::npos) << warnings;
 }
 
+namespace
+{
+// Default settings on a lake: 30 degrees, areas within 0.5%, and the boundary within half the
+// local edge by both the mesher's measure and this file's.
+void expectLakeWithinTheBounds(const char* file)
+{
+  const strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
+  const strata::MesherResult r = strata::triangulate(raw);
+  ASSERT_GT(r.triangles.size(), 10000u);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
+  EXPECT_GE(r.summary.minAngle, 29.9);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+}
+} // namespace
+
 // An inlet beside bends of the shore is not a region narrower than the finest edge
 // (island_inlet_lake.vtp: an island's inlet about 2-3 finest edges wide). The mesher's own
 // measure left out the curve points where the disc of a finest edge's diameter touching the
@@ -1656,14 +1672,7 @@ TEST(MesherTest, AMeshWithABoundaryVertexOffTheCurvesIsNotKept)
 // ThinLayerRefinement around the misses keep the inlet.
 TEST(MesherTest, AnInletBesideABendOfTheShoreIsNotTakenForANarrowRegion)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("island_inlet_lake.vtp"));
-  const strata::MesherResult r = strata::triangulate(raw);
-  ASSERT_GT(r.triangles.size(), 10000u);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
-  EXPECT_GE(r.summary.minAngle, 29.9);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  expectLakeWithinTheBounds("island_inlet_lake.vtp");
 }
 
 // A boundary edge that cuts off a bulge of an island deeper than 0.4 of the local edge (and a
@@ -1672,14 +1681,7 @@ TEST(MesherTest, AnInletBesideABendOfTheShoreIsNotTakenForANarrowRegion)
 // relative to the lake, never saw it: 0.52 local edges, under the finer level's 0.55).
 TEST(MesherTest, AnIslandsBulgeCutOffByALongEdgeIsFollowed)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("bulge_island_lake.vtp"));
-  const strata::MesherResult r = strata::triangulate(raw);
-  ASSERT_GT(r.triangles.size(), 10000u);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
-  EXPECT_GE(r.summary.minAngle, 29.9);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  expectLakeWithinTheBounds("bulge_island_lake.vtp");
 }
 
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
