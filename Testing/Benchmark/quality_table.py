@@ -16,9 +16,10 @@ sample lies on; the boundary edge nearest a curve sample), the mesher's own defi
 (`MaxRelativeBoundaryDeviation`).
 It is given twice: over all points, and without the points inside a region narrower than
 the finest edge length (issue 5's exemption; `--exempt-width` scales that width): the curve
-points, and the mesh points whose nearest curve point, beside such a region on either side of
-the curve: another curve within that width along the curve's normal, or the disc of that
-diameter touching the point, shrunk by 10%, cut by a curve (see narrow()).
+points beside such a region, and the mesh points whose nearest curve point is beside one.
+Beside it, on either side of the curve: another curve within that width along the curve's
+normal, or the disc of that diameter touching the point, shrunk by 10%, cut by a curve (see
+narrow()).
 With `--models FILE_OR_DIR ...` it meshes those models instead (every .vtp of a folder, e.g.
 the output of random_faulted_sections.py), one row each (a failed run or check is a row with
 its error), and prints the counts issue 5 asks about under the table.
@@ -182,7 +183,7 @@ def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
     for samples, (a, b), curve in ((s_mesh, (P, Q), False), (s_in, (A, B), True)):
         if curve:
             # Exact from a quarter of the sampled nearest edge's local edge on (the exact
-            # nearest edge's may be smaller: neighbouring edges' differ by less than 2x).
+            # nearest edge's may differ: this leaves room for one up to twice smaller).
             d, nearest = exact_distances(samples, a, b, 0.5 * step,
                                          lambda approx, e: approx > 0.25 * local[e])
             h = local[nearest]
