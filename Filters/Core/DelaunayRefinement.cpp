@@ -1698,6 +1698,11 @@ std::size_t Refiner::followCurves()
       }
     }
   }
+  const auto meanEdge = [&](int t)
+  {
+    const auto& tri = this->M.triangles[t];
+    return meanEdgeLength(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+  };
   std::size_t splits = 0;
   std::vector<int> created, touched;
   for (int round = 0; round < kFollowRounds && !todo.empty(); ++round)
@@ -1747,12 +1752,6 @@ std::size_t Refiner::followCurves()
       // them about as long as the chord) and than a finest edge: issue 5's boundary bound,
       // which no area bound sees on a large region's shore (a lake's island whose bulge a
       // chord cut off, 0.52 local edges).
-      const auto meanEdge = [&](int v)
-      {
-        const auto& tri = this->M.triangles[v];
-        const Vec2 p = this->X(tri[0]), q = this->X(tri[1]), r = this->X(tri[2]);
-        return (norm(q - p) + norm(r - q) + norm(p - r)) / 3.0;
-      };
       const double local = std::min(
         l, u >= 0 && this->M.region[u] >= 0 ? 0.5 * (meanEdge(t) + meanEdge(u)) : meanEdge(t));
       const bool far = off > l * std::max(kChordLocal * local, this->P.minimumEdgeLength);

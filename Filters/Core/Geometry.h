@@ -33,6 +33,13 @@ inline double orient2d(Vec2 a, Vec2 b, Vec2 c)
   return cross(b - a, c - a);
 }
 
+/// Mean length of the edges of triangle abc: the local edge of issue 5's boundary bound (the
+/// mesher's measure and the refinement's split of boundary edges far from their curve).
+inline double meanEdgeLength(Vec2 a, Vec2 b, Vec2 c)
+{
+  return (norm(b - a) + norm(c - b) + norm(a - c)) / 3.0;
+}
+
 /// Axis-aligned bounding box; empty when min > max.
 struct Box2
 {

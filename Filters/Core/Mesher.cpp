@@ -1853,8 +1853,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
     const auto meanEdge = [&](int t)
     {
       const auto& tri = result.triangles[t];
-      const Vec2 p = result.points[tri[0]], q = result.points[tri[1]], r = result.points[tri[2]];
-      return (norm(q - p) + norm(r - q) + norm(p - r)) / 3.0;
+      return meanEdgeLength(result.points[tri[0]], result.points[tri[1]], result.points[tri[2]]);
     };
     const auto localEdge = [&](int u, int v)
     {
