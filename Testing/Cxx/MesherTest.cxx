@@ -498,8 +498,7 @@ double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::
   const auto meanEdge = [&](int t)
   {
     const auto& tri = r.triangles[t];
-    const Vec2 a = r.points[tri[0]], b = r.points[tri[1]], c = r.points[tri[2]];
-    return (strata::norm(b - a) + strata::norm(c - b) + strata::norm(a - c)) / 3.0;
+    return strata::meanEdgeLength(r.points[tri[0]], r.points[tri[1]], r.points[tri[2]]);
   };
   std::vector<double> local;
   for (const auto& [edge, ts] : sides)
