@@ -303,8 +303,8 @@ public:
    *   corner forces it, a region's area still off by more than 0.5%, or, with MaxLevel
    *   automatic too, a region cut into more pieces than the model has (`BrokenRegions`) or a
    *   `MaxRelativeBoundaryDeviation` above 0.55: made again with LocalMaxLevel 4 levels finer
-   *   and, when that one is kept and still misses, 2 levels finer again (field
-   *   `LocalMaxLevel`).
+   *   and, when that one is kept and still misses, 2 levels finer again; when that third one
+   *   is kept and still cuts a region, 2 levels finer once more (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
    *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary

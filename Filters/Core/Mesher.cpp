@@ -411,6 +411,9 @@ constexpr double kFirstShare = 0.9;
 // finer again; the finer mesh's share of the progress then ends at kFinerShare.
 constexpr int kFinestLevels = 2;
 constexpr double kFinerShare = 0.95;
+// When the third mesh is kept and still cuts a region, a fourth is made kFinestLevels finer
+// again; the third's share then ends here.
+constexpr double kFinestShare = 0.975;
 
 // The segment of chain c within `tolerance` of p, walked to from segment `start` (dir +1
 // forward, -1 backward) over at most `reach` of arc length, or -1; `walked` is the length
@@ -2506,14 +2509,32 @@ MesherResult triangulate(const RawPolylines& input,
   }
   finerParams.grid.localMaxLevel += kFinestLevels;
   MesherResult finest = triangulateWithThinLayers(
-    input, finerParams, progress.sub(kFinerShare, 1.0), automaticSizes(params));
+    input, finerParams, progress.sub(kFinerShare, kFinestShare), automaticSizes(params));
   const bool keepFinest = better(finest, finer, m2);
   text += ", but it " + why(finer, m2) + ", so it was made again at " + figures(finest) + "; the " +
-    (keepFinest ? "last" : "second") + " one is kept";
-  MesherResult& kept = keepFinest ? finest : finer;
+    (keepFinest ? "third" : "second") + " one is kept";
+  const Misses m3 = missesOf(finest);
+  if (!keepFinest || !m3.pieces || finerParams.grid.localMaxLevel + kFinestLevels > 60)
+  {
+    MesherResult& kept = keepFinest ? finest : finer;
+    kept.warnings.push_back(text);
+    MesherResult result =
+      keepOne(std::move(kept), keepFinest ? finer : finest, "discarded level run", begin, progress);
+    return keepOne(std::move(result), first, "discarded level run", begin, progress);
+  }
+  // A region still cut (a layer about two finest edges thick, cut where it thins out): once
+  // more kFinestLevels finer, kept by the same rule.
+  finerParams.grid.localMaxLevel += kFinestLevels;
+  MesherResult last = triangulateWithThinLayers(
+    input, finerParams, progress.sub(kFinestShare, 1.0), automaticSizes(params));
+  const bool keepLast = better(last, finest, m3);
+  text += ", but it " + why(finest, m3) + ", so it was made again at " + figures(last) + "; the " +
+    (keepLast ? "fourth" : "third") + " one is kept";
+  MesherResult& kept = keepLast ? last : finest;
   kept.warnings.push_back(text);
   MesherResult result =
-    keepOne(std::move(kept), keepFinest ? finer : finest, "discarded level run", begin, progress);
+    keepOne(std::move(kept), keepLast ? finest : last, "discarded level run", begin, progress);
+  result = keepOne(std::move(result), finer, "discarded level run", begin, progress);
   return keepOne(std::move(result), first, "discarded level run", begin, progress);
 }
 

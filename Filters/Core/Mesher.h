@@ -83,7 +83,8 @@ struct MesherParams
   /// it mends the area, the pieces or the deviation without a smaller smallest angle (up to 30
   /// degrees) (a warning gives both; Summary::localMaxLevel); when
   /// the finer one is kept and still misses, it is made once more 2 levels finer again, kept
-  /// by the same rule. With keepSharpCorners these smallest angles are those away from the
+  /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
+  /// once more. With keepSharpCorners these smallest angles are those away from the
   /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };

@@ -1368,7 +1368,7 @@ TEST(MesherTest, ARegionOffItsAreaIsMadeAgainAtAFinerLevel)
   EXPECT_NE(warnings.find("the finer one is kept, but it cut 1 region(s) into more pieces"),
     std::string::npos)
     << warnings;
-  EXPECT_NE(warnings.find("the last one is kept"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("the third one is kept"), std::string::npos) << warnings;
   // The two meshes not kept are stages of the one kept.
   EXPECT_EQ(discardedLevelRuns(d), 2);
 
@@ -1607,13 +1607,15 @@ TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAtAFinerLevel)
 
 // Of two meshes, ThinLayerRetry keeps the one that misses fewer of issue 5's hard bounds
 // (25 degrees, 0.5% area, no region cut), whatever the angles above 25 degrees
-// (torn_layer_section.vtp: at LocalMaxLevel 20 the mesh without ThinLayerRefinement is at 30
+// (torn_layer_section.vtp at LocalMaxLevel 20: the mesh without ThinLayerRefinement is at 30
 // degrees with a thin layer cut into 10 pieces and 2.4% of its area lost, the one with it at
 // 28.8 degrees within 0.1%; the larger angle won before).
 TEST(MesherTest, AMeshWithinTheAreaBoundIsKeptOverOneWithALargerAngle)
 {
-  const strata::MesherResult r =
-    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("torn_layer_section.vtp")));
+  strata::MesherParams set;
+  set.grid.localMaxLevel = 20;
+  const strata::MesherResult r = strata::triangulate(
+    strata_test::readVtpAscii(strata_test::dataPath("torn_layer_section.vtp")), set);
   ASSERT_GT(r.triangles.size(), 10000u);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
   EXPECT_GE(r.summary.minAngle, 25.0);
@@ -1621,6 +1623,28 @@ TEST(MesherTest, AMeshWithinTheAreaBoundIsKeptOverOneWithALargerAngle)
   const std::string warnings = allWarnings(r);
   EXPECT_NE(warnings.find("with ThinLayerRefinement was made too"), std::string::npos) << warnings;
   EXPECT_NE(warnings.find("the second one is kept"), std::string::npos) << warnings;
+}
+
+// A region the third mesh of the finer levels still cuts gets a fourth mesh 2 levels finer
+// again (torn_layer_section.vtp: its thin layer, 2.1 finest edges thick where it thins out at
+// LocalMaxLevel 20, in 4 pieces there; whole at 22, at 30 degrees, with fewer triangles).
+TEST(MesherTest, ALayerStillCutByTheThirdMeshIsMadeOnceMoreFiner)
+{
+  const strata::MesherResult r =
+    strata::triangulate(strata_test::readVtpAscii(strata_test::dataPath("torn_layer_section.vtp")));
+  ASSERT_GT(r.triangles.size(), 10000u);
+  EXPECT_TRUE(r.brokenRegions.empty());
+  EXPECT_TRUE(r.unresolvedRegions.empty());
+  EXPECT_EQ(r.summary.localMaxLevel, 22);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_GE(r.summary.minAngle, 29.9);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  const std::string warnings = allWarnings(r);
+  EXPECT_NE(warnings.find("the third one is kept, but it cut 1 region(s) into more pieces"),
+    std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("the fourth one is kept"), std::string::npos) << warnings;
+  EXPECT_EQ(discardedLevelRuns(r), 3);
 }
 
 // A vertex of the approximated boundary off the curves is a hard miss too (issue 4's bound)
