@@ -61,7 +61,9 @@ struct MesherParams
   bool keepSharpCorners = false;
   /// Beyond the paper, with compression.optimize: when the mesh's smallest angle is below
   /// min(refinement.minimumAngle, 30) by more than 0.05 degrees (not checked with
-  /// keepSharpCorners), or a region's area is off by more than 0.5%, it is made again with
+  /// keepSharpCorners), or a region's area is off by more than 0.5%, or a vertex of the
+  /// approximated boundary lies off the curves (Summary::maxBoundaryVertexDistance above 1e-9
+  /// of the model's size), it is made again with
   /// grid.thinLayerRefinement (layers thinner than the cells get cells as wide as they are)
   /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
   /// smaller area error (Summary::thinLayerMesh, a warning). With no size set (maxLevel,

@@ -1504,7 +1504,7 @@ TEST(MesherTest, AMeshThatGivesAPieceOfALayerAwayIsMadeAgainWithTheThinLayerRefi
   EXPECT_LE(d.summary.maxRegionAreaError, 0.001);
   const std::string all = allWarnings(d);
   EXPECT_NE(all.find("the mesh without ThinLayerRefinement missed the angle, area or boundary "
-                     "bound (smallest angle 30.0"),
+                     "bound, or left a boundary vertex off the curves (smallest angle 30.0"),
     std::string::npos)
     << all;
   EXPECT_NE(
@@ -1645,6 +1645,36 @@ TEST(MesherTest, ALayerStillCutByTheThirdMeshIsMadeOnceMoreFiner)
     << warnings;
   EXPECT_NE(warnings.find("the fourth one is kept"), std::string::npos) << warnings;
   EXPECT_EQ(discardedLevelRuns(r), 3);
+}
+
+// A mesh that leaves a vertex of the approximated boundary off the curves is made again with
+// ThinLayerRefinement (poked_triangle_loops.vtp: made once, a triangle of a layer pokes a finest
+// edge into the layer above, the vertex at its tip 0.23 units off the curves, with every other
+// bound met; the thin layer mesh has every boundary vertex on a curve, at 30 degrees).
+TEST(MesherTest, AMeshWithABoundaryVertexOffTheCurvesIsMadeAgain)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("poked_triangle_loops.vtp"));
+  const double onCurve = 1e-9 * 1000.0;
+  strata::MesherParams once;
+  once.thinLayerRetry = false;
+  const strata::MesherResult o = strata::triangulate(raw, once);
+  ASSERT_GT(o.summary.maxBoundaryVertexDistance, 0.1);
+  EXPECT_GE(o.summary.minAngle, 29.95);
+  EXPECT_LE(o.summary.maxRegionAreaError, 0.005);
+
+  const strata::MesherResult r = strata::triangulate(raw);
+  EXPECT_LE(r.summary.maxBoundaryVertexDistance, onCurve);
+  EXPECT_TRUE(r.summary.thinLayerMesh);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_TRUE(r.brokenRegions.empty());
+  const std::string warnings = allWarnings(r);
+  EXPECT_NE(warnings.find("left a boundary vertex off the curves (smallest angle 30.00 degrees"),
+    std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("the second one is kept"), std::string::npos) << warnings;
 }
 
 // A vertex of the approximated boundary off the curves is a hard miss too (issue 4's bound)
