@@ -293,8 +293,8 @@ public:
    * way and the better one kept. Default on; off: one mesh, as made.
    * - A smallest angle below min(MinimumAngle, 30) by more than 0.05 degrees (not checked
    *   with KeepSharpCorners), a region's area off by more than 0.5%, a vertex of the
-   *   approximated boundary off the curves, or, with no size set (no
-   *   MaxLevel, LocalMaxLevel, MinimumEdgeLength or edge length field), the boundary more
+   *   approximated boundary off the curves, or, with no level set (no MaxLevel or
+   *   LocalMaxLevel; sizes in model units allowed), the boundary more
    *   than half the local edge off the curves where the region is at least a finest edge wide
    *   (`MaxRelativeBoundaryDeviation` above 0.5): the mesh is made again with
    *   ThinLayerRefinement toggled (for the boundary alone, around the misses first, then

@@ -2226,9 +2226,14 @@ MesherResult triangulateWithThinLayers(const RawPolylines& input,
     std::min(params.refinement.minimumAngle, kThinLayerRetryAngle) - kRetryAngleSlack;
   const bool boundsMiss =
     (angles && first.summary.minAngle < target) || first.summary.maxRegionAreaError > kAreaBound;
-  // (The boundary bound only with the automatic sizes: a mesh at the user's sizes is made
-  // once, the miss named in a warning; at MaxLevel 24 the gulf's first mesh misses it.)
-  const bool deviationMiss = automatic && first.summary.maxRelativeDeviation > kDeviationBound;
+  // (The boundary bound only with the automatic levels: the sizes automatic, or set in model
+  // units (MinimumEdgeLength, MaximumEdgeLength, the edge length field), whose finest edge
+  // the thin layer refinement keeps; a mesh at a MaxLevel or LocalMaxLevel the user set is
+  // made once, the miss named in a warning: at MaxLevel 24 the gulf's first mesh misses it.)
+  const bool levelsAutomatic =
+    automatic || (params.grid.maxLevel < 0 && params.grid.localMaxLevel < 0);
+  const bool deviationMiss =
+    levelsAutomatic && first.summary.maxRelativeDeviation > kDeviationBound;
   // (And a vertex of the approximated boundary left off the curves, issue 4's bound: the
   // other grid puts it elsewhere; f107_loops of random_faulted_sections.py 100 112.)
   const double offCurve = kOnCurve * inputSize(input);

@@ -66,8 +66,8 @@ struct MesherParams
   /// of the model's size), it is made again with
   /// grid.thinLayerRefinement (layers thinner than the cells get cells as wide as they are)
   /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
-  /// smaller area error (Summary::thinLayerMesh, a warning). With no size set (maxLevel,
-  /// localMaxLevel, minEdgeLength and targetEdgeLength automatic), a mesh whose
+  /// smaller area error (Summary::thinLayerMesh, a warning). With no level set (maxLevel and
+  /// localMaxLevel automatic; sizes in model units allowed), a mesh whose
   /// Summary::maxRelativeDeviation is above 0.5 (a piece of a region at least a finest edge
   /// wide lost to its neighbour) is made again with the thin layer refinement around
   /// MesherResult::boundaryMisses (grid.thinLayerZones) and, when that one still misses,
