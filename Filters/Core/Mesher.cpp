@@ -27,17 +27,16 @@
 //                       across edges, at least 4 median boundary edges squared)
 // Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
 // min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept), the 0.5% area
-// bound, issue 4's (every vertex of the approximated boundary on a curve) or (with no size
-// set) the boundary bound (Summary::maxRelativeDeviation above 0.5: a
-// piece of a layer lost where it is thicker than the finest edge, which neither the angles
-// nor the areas see) is made again the other way, with the grid's thin layer refinement if it
-// was made without it (the default: thinLayerRetry, with the optimization) and without it if
-// it was made with it (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger
-// smallest angle, then smaller area error; for the boundary, the smaller deviation with
-// neither bound worse); a warning and Summary::thinLayerMesh say which. After a miss of the
-// boundary bound alone, the thin layers are refined around the misses only (grid.
-// thinLayerZones), and everywhere in a third mesh when that one still misses.
-// Nothing is kept between calls.
+// bound, issue 4's (every vertex of the approximated boundary on a curve) or (with no level
+// set: no MaxLevel or LocalMaxLevel) the boundary bound (Summary::maxRelativeDeviation above
+// 0.5: a piece of a layer lost where it is thicker than the finest edge, which neither the
+// angles nor the areas see) is made again the other way, with the grid's thin layer refinement if
+// it was made without it (the default: thinLayerRetry, with the optimization) and without it if it
+// was made with it (grid.thinLayerRefinement, opt-in), and the better mesh is kept (larger smallest
+// angle, then smaller area error; for the boundary, the smaller deviation with neither bound
+// worse); a warning and Summary::thinLayerMesh say which. After a miss of the boundary bound alone,
+// the thin layers are refined around the misses only (grid. thinLayerZones), and everywhere in a
+// third mesh when that one still misses. Nothing is kept between calls.
 #include "Mesher.h"
 
 #include "DelaunayRefinement.h"

@@ -151,9 +151,10 @@ def narrow(x, seg, P, Q, width):
 def local_deviation(mc, model_path, mesh_path, finest, exempt_width=1.0):
     """Largest two-way boundary distance over the local edge length (see the module doc):
     (over all samples, over those not exempt), and the largest distance of a vertex of the
-    mesh's boundary to the curves over the model's size (issue 4: at most 1e-9). A curve sample is exempt when a region beside
-    it is narrower than `finest` (the tool's finest edge length) there (narrow()), a mesh
-    sample when a region beside its nearest curve point is: issue 5's
+    mesh's boundary to the curves over the model's size (issue 4: at most 1e-9). A curve
+    sample is exempt when a region beside it is narrower than `finest` (the tool's finest
+    edge length) there (narrow()), a mesh sample when a region beside its nearest curve point
+    is: issue 5's
     "except inside a region narrower than the finest edge length" (`exempt_width` finest
     edges: 1 for the issue's bound)."""
     model = mc.read(model_path)
