@@ -59,13 +59,15 @@
 //    than the triangles, often in a spike: a triangle whose smallest angle lies between two
 //    region boundary edges. A region triangle with such a corner below minimumAngle, no longer
 //    than 16 minimumEdgeLength, takes the region of the triangle across one of its boundary
-//    edges (not the mesh's outer border) when that raises the smallest such corner angle of
+//    edges (not beyond the mesh's outer border; the exterior's triangles only when no
+//    region's raises it) when that raises the smallest such corner angle of
 //    it and its neighbours (new boundary edges must join vertices on curves; no region loses
 //    its last triangle). The layer then ends where it is about as thick as its triangles,
 //    cleanly. A speck (a triangle with no neighbour of its own region and an inradius below
 //    minimumEdgeLength, or with one and an inradius below half of it: a sliver a retag left
 //    between other regions, or hanging from its region into another) is treated so whatever
-//    its length, and may also go beyond the mesh's outer border. A longer triangle is treated
+//    its length, and may also go beyond the mesh's outer border, when no region beside it
+//    raises its angle (the border stays where it is). A longer triangle is treated
 //    so when its area is at most 0.05% of its region's and it does not join two pieces of the
 //    region it joins: where the mesh is coarse, a wedge's tip between two curves meeting at
 //    a small angle is a triangle longer than that (Marmousi's 19-degree junctions, in
@@ -2126,7 +2128,11 @@ std::size_t Refiner::dissolveCorners()
       {
         continue;
       }
-      double best = around(t) + 1e-9;
+      // (A region beside it is preferred to the exterior whenever one raises the angle: the
+      // mesh's outer border stays where it is; a wedge's tip at a section's side given to the
+      // exterior left a notch in it, m110 of random_sections.py 100 112.)
+      const double before = around(t) + 1e-9;
+      double best = before, bestOutside = before;
       int bestRegion = old, bestPiece = -1;
       for (int k = 0; k < 3; ++k)
       {
@@ -2150,12 +2156,21 @@ std::size_t Refiner::dissolveCorners()
         }
         const double angle = keepsCurves ? around(t) : -1.0;
         this->M.region[t] = old;
-        if (angle > best)
+        if (r < 0 && angle > bestOutside)
+        {
+          bestOutside = angle;
+        }
+        else if (r >= 0 && angle > best)
         {
           best = angle;
           bestRegion = r;
-          bestPiece = n >= 0 ? piece[n] : -1;
+          bestPiece = piece[n];
         }
+      }
+      if (bestRegion == old && bestOutside > before)
+      {
+        bestRegion = -1;
+        bestPiece = -1;
       }
       if (bestRegion != old)
       {
