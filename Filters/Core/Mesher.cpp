@@ -2504,55 +2504,66 @@ MesherResult triangulate(const RawPolylines& input,
     progress.report(1.0, "done");
     return first;
   }
+  // The ladder: LocalMaxLevel kFinerLevels finer; then, while the new mesh is kept and still
+  // misses a bound, kFinestLevels finer again; then, while it still cuts a region, once more.
+  // Each new mesh is compared with the one before it (better(), for that one's misses).
+  struct Step
+  {
+    int levels;
+    double end;           // the new mesh's share of the progress ends here
+    const char* names[2]; // the one before and the new one, in the warning
+  };
+  const std::array<Step, 3> steps = { { { kFinerLevels, kFinerShare, { "first", "finer" } },
+    { kFinestLevels, kFinestShare, { "second", "third" } },
+    { kFinestLevels, 1.0, { "third", "fourth" } } } };
   MesherParams finerParams = params;
-  finerParams.grid.localMaxLevel = first.summary.localMaxLevel + kFinerLevels;
+  finerParams.grid.localMaxLevel = first.summary.localMaxLevel;
   if (automaticSizes(params))
   {
     finerParams.refinement.curveAreaBudget = kCurveAreaBudget; // as the first mesh's
   }
-  MesherResult finer = triangulateWithThinLayers(
-    input, finerParams, progress.sub(kFirstShare, kFinerShare), automaticSizes(params));
-  const bool keepFiner = better(finer, first, m1);
-  std::string text = "the mesh at LocalMaxLevel " + std::to_string(first.summary.localMaxLevel) +
-    " " + why(first, m1) + ", so it was made again at " + figures(finer) + "; the " +
-    (keepFiner ? "finer" : "first") + " one is kept";
-  const Misses m2 = missesOf(finer);
-  if (!keepFiner || !m2.any() || finerParams.grid.localMaxLevel + kFinestLevels > 60)
+  std::vector<MesherResult> meshes;
+  meshes.reserve(steps.size() + 1);
+  meshes.push_back(std::move(first));
+  Misses misses = m1;
+  std::string text =
+    "the mesh at LocalMaxLevel " + std::to_string(meshes.front().summary.localMaxLevel) + " ";
+  double start = kFirstShare;
+  bool newKept = false;
+  for (std::size_t i = 0; i < steps.size(); ++i)
   {
-    MesherResult& kept = keepFiner ? finer : first;
-    kept.warnings.push_back(text);
-    return keepOne(
-      std::move(kept), keepFiner ? first : finer, "discarded level run", begin, progress);
+    finerParams.grid.localMaxLevel += steps[i].levels;
+    meshes.push_back(triangulateWithThinLayers(
+      input, finerParams, progress.sub(start, steps[i].end), automaticSizes(params)));
+    start = steps[i].end;
+    const MesherResult& before = meshes[meshes.size() - 2];
+    const MesherResult& made = meshes.back();
+    newKept = better(made, before, misses);
+    text += std::string(i == 0 ? "" : ", but it ") + why(before, misses) +
+      ", so it was made again at " + figures(made) + "; the " + steps[i].names[newKept ? 1 : 0] +
+      " one is kept";
+    misses = missesOf(made);
+    // (The third step only for a region still cut: a layer about two finest edges thick, cut
+    // where it thins out.)
+    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.any());
+    if (!newKept || !again || finerParams.grid.localMaxLevel + steps[i + 1].levels > 60)
+    {
+      break;
+    }
   }
-  finerParams.grid.localMaxLevel += kFinestLevels;
-  MesherResult finest = triangulateWithThinLayers(
-    input, finerParams, progress.sub(kFinerShare, kFinestShare), automaticSizes(params));
-  const bool keepFinest = better(finest, finer, m2);
-  text += ", but it " + why(finer, m2) + ", so it was made again at " + figures(finest) + "; the " +
-    (keepFinest ? "third" : "second") + " one is kept";
-  const Misses m3 = missesOf(finest);
-  if (!keepFinest || !m3.pieces || finerParams.grid.localMaxLevel + kFinestLevels > 60)
+  // The kept mesh, with the others' seconds: the other of the last two first, then the
+  // earlier ones, latest first.
+  const std::size_t kept = newKept ? meshes.size() - 1 : meshes.size() - 2;
+  meshes[kept].warnings.push_back(text);
+  MesherResult result = std::move(meshes[kept]);
+  for (std::size_t j = meshes.size(); j-- > 0;)
   {
-    MesherResult& kept = keepFinest ? finest : finer;
-    kept.warnings.push_back(text);
-    MesherResult result =
-      keepOne(std::move(kept), keepFinest ? finer : finest, "discarded level run", begin, progress);
-    return keepOne(std::move(result), first, "discarded level run", begin, progress);
+    if (j != kept)
+    {
+      result = keepOne(std::move(result), meshes[j], "discarded level run", begin, progress);
+    }
   }
-  // A region still cut (a layer about two finest edges thick, cut where it thins out): once
-  // more kFinestLevels finer, kept by the same rule.
-  finerParams.grid.localMaxLevel += kFinestLevels;
-  MesherResult last = triangulateWithThinLayers(
-    input, finerParams, progress.sub(kFinestShare, 1.0), automaticSizes(params));
-  const bool keepLast = better(last, finest, m3);
-  text += ", but it " + why(finest, m3) + ", so it was made again at " + figures(last) + "; the " +
-    (keepLast ? "fourth" : "third") + " one is kept";
-  MesherResult& kept = keepLast ? last : finest;
-  kept.warnings.push_back(text);
-  MesherResult result =
-    keepOne(std::move(kept), keepLast ? finest : last, "discarded level run", begin, progress);
-  result = keepOne(std::move(result), finer, "discarded level run", begin, progress);
-  return keepOne(std::move(result), first, "discarded level run", begin, progress);
+  return result;
 }
 
 } // namespace strata
