@@ -49,9 +49,11 @@
 //    region (the curve bulges into the face, or a region too thin to hold a vertex runs
 //    through it). Sleeping: every 10 steps, particles that moved less than 0.03 h (and are
 //    not pushed) and whose neighbours did too stop being integrated, and springs touching
-//    only sleeping particles are skipped. The loop stops after maxIterations, or when every
-//    push is over and fewer than 0.5% of the simulated vertices move, or nothing moved by
-//    1e-3 h in 10 steps.
+//    only sleeping particles are skipped; in a wave's tail (at most 0.1% of the simulated
+//    vertices still pushed) the test runs once more one step after each of these, with that
+//    one step's move, as the refresh right after a wave does. The loop stops after maxIterations,
+//    or when every push is over and fewer than 0.5% of the simulated vertices move, or nothing
+//    moved by 1e-3 h in 10 steps.
 // 5. Faces (Section 5). A face crossing a boundary takes the region of its barycentre
 //    (DistanceField::query). A face "crosses" when its corners do not settle it: corners off
 //    the curves lie inside regions, so a face whose off-curve corners all lie in one region
@@ -2151,7 +2153,12 @@ void Compressor::simulate()
     {
       this->flipDegenerate();
     }
-    if (wave || (it + 1) % kWakeInterval == 0)
+    // In a wave's tail (its last few pushes still on their way), the sleep test runs again one
+    // step after each refresh: the rest of the mesh sleeps unless it moved kSleep local lengths
+    // in that one step, as after every wave, instead of waiting on the slowest push awake.
+    const bool tail = pushing && (it + 1) % kWakeInterval == 1 &&
+      static_cast<double>(pushed.size()) <= kFewPushes * n;
+    if (wave || (it + 1) % kWakeInterval == 0 || tail)
     {
       this->Progress.report(this->At, this->Stage); // (after a wave's, before the refresh's work)
       const std::size_t moving = this->refreshAwake(windowStart, pushed);
