@@ -253,7 +253,9 @@
 //    sweep), and its flips of 2 start from those.
 // With the curve recovery, 2b to 5 run twice: the second recovery probes the refined
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
-// of big triangles are found.
+// of big triangles are found. Most triangles are left as they were by the first pass, and 2b's
+// queries depend on a triangle's corners only: the second recovery takes the first's answers
+// for those (RecoveryMemo), and asks about the others.
 // Outside the smoothing and 6 no step moves or removes an existing vertex, and no step inverts
 // a triangle; outside the curve recovery, 2c and 7 no triangle changes region, and the
 // regions' areas change only where a boundary edge is split onto its curve (3, 2b', 7) or a
@@ -271,12 +273,14 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <set>
 #include <string>
 #include <tuple>
+#include <unordered_map>
 
 namespace strata
 {
@@ -426,6 +430,39 @@ struct Zone
   double radius2;
 };
 
+// The answers of 2b's queries that depend on a triangle's corners only (its centroid's region
+// near a curve, centroidRegionsNear(); its probe, curvePoint), as one recovery asked them, for
+// the next (the second pass's mesh is mostly the first's): a triangle whose corners lie where
+// those of the triangle of the same index lay then, in the same order, has the same answers.
+struct RecoveryMemo
+{
+  LargeVector<std::array<int, 3>> triangles; // as they were when asked
+  LargeVector<Vec2> points;                  // as they were when asked
+  LargeVector<int> near;                     // centroidRegionsNear() (empty: not asked)
+  LargeVector<std::uint8_t> probe;           // kNotProbed, kNoPoint or kPoint (at)
+  std::unordered_map<int, Vec2> at;          // the point a probe found inside
+  static constexpr std::uint8_t kNotProbed = 0, kNoPoint = 1, kPoint = 2;
+
+  // Whether t of `mesh` has the corners of the triangle t asked about.
+  bool same(std::size_t t, const RegionMesh& mesh) const
+  {
+    if (t >= this->triangles.size())
+    {
+      return false;
+    }
+    const auto& now = mesh.triangles[t];
+    const auto& then = this->triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      if (!(mesh.points[now[k]] == this->points[then[k]]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+};
+
 std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   const RefinementParams& P,
   const std::vector<Zone>& avoid,
@@ -458,11 +495,16 @@ public:
   }
 
   /// Neighbours, frozen triangles, then Lawson's flips to constrained Delaunay (counted in
-  /// the result's delaunayFlips).
-  void prepare();
+  /// the result's delaunayFlips). With `neighbours`, those of a refiner that changed this mesh
+  /// last (takeNeighbours()) are taken instead of found again: the same ones.
+  void prepare(LargeVector<std::array<int, 3>>* neighbours = nullptr);
+  /// The neighbours, for prepare() of the next refiner of this mesh (this one is done).
+  LargeVector<std::array<int, 3>> takeNeighbours() { return std::move(this->Nbr); }
   void flipToDelaunay(const std::vector<int>* seeds = nullptr);
-  /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted.
-  std::size_t recoverCurves();
+  /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted. With a
+  /// memo, the answers kept there by the recovery before are taken for the triangles it asked
+  /// about that are unchanged, and this recovery's answers are kept in `after` (when given).
+  std::size_t recoverCurves(const RecoveryMemo* before = nullptr, RecoveryMemo* after = nullptr);
   /// Curve fidelity (RefinementParams::curveDeviation): returns the boundary edges split.
   std::size_t followCurves();
   /// Region corners sharper than the bound in small triangles given a neighbour's region
@@ -487,17 +529,26 @@ public:
   std::size_t smoothBad();
   /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
   void adopt(const Refiner& prepared);
-  /// The refinement of a prepared mesh.
-  RefinementResult run();
-  /// Sets the result's counts of bad triangles (and of those at region corners).
-  void countBad(RefinementResult& result) const;
+  /// The refinement of a prepared mesh; `bad`, when given, lists its bad triangles
+  /// (badTriangles() of a refiner of the same mesh, before any change).
+  RefinementResult run(const std::vector<int>* bad = nullptr);
+  /// The bad triangles, increasing.
+  std::vector<int> badTriangles() const
+  {
+    return this->selectTriangles([this](int t) { return this->bad(t); });
+  }
+  /// Sets the result's counts of bad triangles (and of those at region corners); returns the
+  /// smallest angle (degrees) of the region triangles outside the kept wedges. The bad
+  /// triangles, increasing, are left in `bad` when given.
+  double countBad(RefinementResult& result, std::vector<int>* bad = nullptr) const;
+  /// The smallest angle (degrees) of the region triangles outside the kept wedges at the end
+  /// of run() (countBad()).
+  double angleAfterRun() const { return this->AngleAfterRun; }
   std::size_t flips() const { return this->R.delaunayFlips; }
   /// Insertions allowed (insertionBudget x the triangles at construction + 1000), and a
   /// smaller allowance for a run that continues another's.
   std::size_t budget() const { return this->Budget; }
   void limitBudget(std::size_t budget) { this->Budget = std::min(this->Budget, budget); }
-  /// The smallest angle (degrees) of the region triangles.
-  double minimumAngle() const;
   /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
   /// twice the longest edge), appended to `zones`.
   void zonesBelow(double angle, std::vector<Zone>& zones) const;
@@ -678,7 +729,7 @@ private:
     return !this->P.curveDeviation(a, b, left, right, area, w) ||
       std::fabs(cross(b - a, w - a)) <= kCornerStraight * norm2(b - a);
   }
-  LargeVector<int> centroidRegionsNear();
+  LargeVector<int> centroidRegionsNear(const RecoveryMemo* before);
   void appendNeighbours(int t, std::vector<int>& list) const
   {
     for (int n : this->Nbr[t])
@@ -762,6 +813,9 @@ private:
   const std::vector<Zone>& Cautious;
   std::vector<int> Changed;
   RefinementResult R;
+  double AngleAfterRun = 0.0;
+  std::vector<int> BadAfterRun; // (zonesBelow(): after run(), the bad triangles)
+  bool Ran = false;             // run() ran
   bool Legalize = true;      // false while the kept corners' sides are conformed
   std::vector<Zone> ExtendedSides; // extendedSides()
   mutable int LastAround = -1;     // around()'s last triangle: where holding() looks first
@@ -1303,10 +1357,17 @@ void Refiner::queueBad(const std::vector<int>& tris)
   }
 }
 
-void Refiner::prepare()
+void Refiner::prepare(LargeVector<std::array<int, 3>>* neighbours)
 {
   const std::size_t nt = this->M.triangles.size();
-  this->buildNeighbours();
+  if (neighbours && neighbours->size() == nt)
+  {
+    this->Nbr = std::move(*neighbours);
+  }
+  else
+  {
+    this->buildNeighbours();
+  }
   this->Live.resize(nt);
   this->Saved.assign(nt, 0);
   for (std::size_t t = 0; t < nt; ++t)
@@ -1378,7 +1439,7 @@ void Refiner::flipToDelaunay(const std::vector<int>* seeds)
   }
 }
 
-std::size_t Refiner::recoverCurves()
+std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* after)
 {
   if (!this->P.curvePoint || !this->P.regionAt)
   {
@@ -1396,7 +1457,7 @@ std::size_t Refiner::recoverCurves()
   // not probed. Insertions change only the triangles they report (the new vertex's star).
   // The centroids' curve queries (geometry only: the rounds change regions, not positions)
   // are asked all at once first when the caller can answer them so.
-  const LargeVector<int> near = this->centroidRegionsNear();
+  const LargeVector<int> near = this->centroidRegionsNear(before);
   std::vector<int> todo(queue.begin(), queue.end()), next;
   std::vector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
@@ -1413,7 +1474,7 @@ std::size_t Refiner::recoverCurves()
     sortUnique(next);
     todo.swap(next);
   }
-  const std::size_t before = this->Inserted;
+  const std::size_t inserted = this->Inserted;
   const auto probed = [&](int t, const std::array<int, 3>& tri)
   {
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
@@ -1438,20 +1499,67 @@ std::size_t Refiner::recoverCurves()
     }
     probeFound.assign(probeT.size(), 0);
     probeAt.resize(probeT.size());
-    std::vector<Vec2> corners;
-    for (std::size_t begin = 0; begin < probeT.size(); begin += kTwoThreadBlock)
+    // The triangles the recovery before probed, unchanged, take its answers; the others are
+    // asked (by their places in probeT).
+    std::vector<std::size_t> ask;
+    for (std::size_t i = 0; i < probeT.size(); ++i)
+    {
+      const int t = probeT[i];
+      const std::uint8_t known = before && static_cast<std::size_t>(t) < before->probe.size()
+        ? before->probe[t]
+        : RecoveryMemo::kNotProbed;
+      if (known != RecoveryMemo::kNotProbed && before->same(t, this->M))
+      {
+        probeFound[i] = known == RecoveryMemo::kPoint;
+        if (probeFound[i])
+        {
+          probeAt[i] = before->at.at(t);
+        }
+      }
+      else
+      {
+        ask.push_back(i);
+      }
+    }
+    std::vector<Vec2> corners, at;
+    std::vector<char> found;
+    for (std::size_t begin = 0; begin < ask.size(); begin += kTwoThreadBlock)
     {
       this->report();
-      const std::size_t n = std::min(kTwoThreadBlock, probeT.size() - begin);
+      const std::size_t n = std::min(kTwoThreadBlock, ask.size() - begin);
       corners.clear();
       for (std::size_t i = begin; i < begin + n; ++i)
       {
-        const auto& tri = this->M.triangles[probeT[i]];
+        const auto& tri = this->M.triangles[probeT[ask[i]]];
         corners.insert(corners.end(), { this->X(tri[0]), this->X(tri[1]), this->X(tri[2]) });
       }
-      this->P.curvePoints(corners.data(), n, probeFound.data() + begin, probeAt.data() + begin);
+      found.assign(n, 0);
+      at.resize(n);
+      this->P.curvePoints(corners.data(), n, found.data(), at.data());
+      for (std::size_t i = 0; i < n; ++i)
+      {
+        probeFound[ask[begin + i]] = found[i];
+        probeAt[ask[begin + i]] = at[i];
+      }
     }
     changed.assign(nt, 0);
+  }
+  if (after)
+  {
+    // This recovery's answers, for the next (the mesh as it was asked about).
+    after->triangles = this->M.triangles;
+    after->points = this->M.points;
+    after->near = near;
+    after->probe.assign(this->M.triangles.size(), RecoveryMemo::kNotProbed);
+    after->at.clear();
+    for (std::size_t i = 0; i < probeT.size(); ++i)
+    {
+      after->probe[probeT[i]] = probeFound[i] ? RecoveryMemo::kPoint : RecoveryMemo::kNoPoint;
+      if (probeFound[i])
+      {
+        after->at.emplace(probeT[i], probeAt[i]);
+      }
+    }
   }
   // The answer asked in advance for t, if any and still valid (lookups mostly in increasing
   // order: the triangles of the first queue, unchanged, come in order).
@@ -1514,7 +1622,7 @@ std::size_t Refiner::recoverCurves()
     }
   }
   this->flipToDelaunay(); // regions changed: so did the constrained edges
-  return this->Inserted - before;
+  return this->Inserted - inserted;
 }
 
 std::size_t Refiner::splitLongEdges()
@@ -1887,7 +1995,7 @@ bool Refiner::slideOnto(int t, int v, Vec2 w, int left, int right)
 // For every live triangle, the region at its centroid when a curve lies nearer to it than
 // its longest edge, else kNoCurveNear (RefinementParams::regionsNear, in blocks between
 // polls); empty without regionsNear or curveDistance.
-LargeVector<int> Refiner::centroidRegionsNear()
+LargeVector<int> Refiner::centroidRegionsNear(const RecoveryMemo* before)
 {
   LargeVector<int> region;
   if (!this->P.regionsNear || !this->P.curveDistance)
@@ -1908,7 +2016,11 @@ LargeVector<int> Refiner::centroidRegionsNear()
     ids.clear();
     for (std::size_t t = begin; t < std::min(n, begin + kBlock); ++t)
     {
-      if (this->Live[t])
+      if (this->Live[t] && before && t < before->near.size() && before->same(t, this->M))
+      {
+        region[t] = before->near[t]; // (unchanged: the same answer)
+      }
+      else if (this->Live[t])
       {
         const auto& tri = this->M.triangles[t];
         const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
@@ -2392,25 +2504,49 @@ std::size_t Refiner::smoothBad()
   std::size_t moves = 0;
   for (int round = 0; round < kSmoothingRounds; ++round)
   {
-    const PointStars stars = pointStars(this->M.points.size(), this->M.triangles);
     std::vector<int> todo;
-    for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+    for (const int t : this->badTriangles())
     {
-      this->poll();
-      if (this->bad(static_cast<int>(t)))
-      {
-        todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
-      }
+      todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
     }
     sortUnique(todo);
+    // The stars of those vertices (each its triangles, increasing): todo[i]'s are
+    // items[start[i]] to items[start[i + 1]].
+    std::vector<int> slot(this->M.points.size(), -1), start(todo.size() + 1, 0), items;
+    for (std::size_t i = 0; i < todo.size(); ++i)
+    {
+      slot[todo[i]] = static_cast<int>(i);
+    }
+    for (const auto& tri : this->M.triangles)
+    {
+      for (int v : tri)
+      {
+        start[slot[v] + 1] += slot[v] >= 0;
+      }
+    }
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    items.resize(static_cast<std::size_t>(start.back()));
+    {
+      std::vector<int> fill(start.begin(), start.end() - 1);
+      for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+      {
+        for (int v : this->M.triangles[t])
+        {
+          if (slot[v] >= 0)
+          {
+            items[fill[slot[v]]++] = static_cast<int>(t);
+          }
+        }
+      }
+    }
     std::size_t moved = 0;
     std::vector<int> link, ends, regions;
     std::vector<Vec2> candidates;
     for (int v : todo)
     {
       this->poll();
-      const int* first = stars.items.data() + stars.start[v];
-      const int* last = stars.items.data() + stars.start[v + 1];
+      const int* first = items.data() + start[slot[v]];
+      const int* last = items.data() + start[slot[v] + 1];
       link.clear();
       ends.clear(); // the other ends of its boundary edges
       regions.clear();
@@ -2521,11 +2657,12 @@ void Refiner::adopt(const Refiner& prepared)
   this->Saved.assign(this->M.triangles.size(), 0);
 }
 
-RefinementResult Refiner::run()
+RefinementResult Refiner::run(const std::vector<int>* bad)
 {
   if (this->P.minimumAngle > 0.0)
   {
-    for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
+    const std::vector<int> found = bad ? std::vector<int>() : this->badTriangles();
+    for (const int t : bad ? *bad : found)
     {
       this->Queue.push_back(t);
     }
@@ -2626,15 +2763,43 @@ RefinementResult Refiner::run()
     ++this->Inserted;
     this->queueBad(this->Changed); // t itself is gone: w lay inside its circumcircle
   }
-  this->countBad(this->R);
+  this->AngleAfterRun = this->countBad(this->R, &this->BadAfterRun);
+  this->Ran = true;
   return this->R;
 }
 
-void Refiner::countBad(RefinementResult& result) const
+double Refiner::countBad(RefinementResult& result, std::vector<int>* found) const
 {
   result.badTrianglesLeft = result.badTrianglesAtCorners = 0;
   result.badCentroids.clear();
-  for (const int t : this->selectTriangles([this](int t) { return this->bad(t); }))
+  // The bad triangles (bad()) and the largest cosine, in one sweep.
+  std::vector<int> list, parts[2];
+  std::vector<int>& bad = found ? *found : list;
+  bad.clear();
+  double worst = -1.0, largest[2] = { -1.0, -1.0 };
+  this->sweepTriangles(
+    [&](int t, int part)
+    {
+      if (this->M.region[t] >= 0 && this->Live[t] && (this->Kept.empty() || !this->inKept(t)))
+      {
+        const double c = this->smallestAngleCosine(this->M.triangles[t]);
+        largest[part] = std::max(largest[part], c);
+        if (c > this->CosBad)
+        {
+          parts[part].push_back(t);
+        }
+      }
+    },
+    [&]
+    {
+      for (std::vector<int>& part : parts)
+      {
+        bad.insert(bad.end(), part.begin(), part.end());
+        part.clear();
+      }
+      worst = std::max({ worst, largest[0], largest[1] });
+    });
+  for (const int t : bad)
   {
     ++result.badTrianglesLeft;
     const int corner = this->smallestCorner(t);
@@ -2644,6 +2809,7 @@ void Refiner::countBad(RefinementResult& result) const
     result.badCentroids.push_back(
       (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])));
   }
+  return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
 }
 // Makes the straight segment from vertex v (of triangle t) to the point e a chain of mesh edges
 // (step 7): every edge it crosses is split where it crosses it, and e is inserted unless a
@@ -3641,32 +3807,29 @@ std::size_t Refiner::keptBad() const
   return count;
 }
 
-double Refiner::minimumAngle() const
-{
-  // The largest cosine (sweepTriangles).
-  double worst = -1.0, parts[2] = { -1.0, -1.0 };
-  this->sweepTriangles(
-    [&](int t, int part)
-    {
-      if (this->M.region[t] >= 0 && this->Live[t] && (this->Kept.empty() || !this->inKept(t)))
-      {
-        parts[part] = std::max(parts[part], this->smallestAngleCosine(this->M.triangles[t]));
-      }
-    },
-    [&] {
-      worst = std::max({ worst, parts[0], parts[1] });
-    });
-  return std::acos(std::clamp(worst, -1.0, 1.0)) * 180.0 / kPi;
-}
 void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
 {
   const double cosine = std::cos(angle * kPi / 180.0);
-  for (const int t : this->selectTriangles(
-         [&](int t)
-         {
-           return this->M.region[t] >= 0 && this->Live[t] &&
-             this->smallestAngleCosine(this->M.triangles[t]) > cosine;
-         }))
+  const auto below = [&](int t)
+  {
+    return this->M.region[t] >= 0 && this->Live[t] &&
+      this->smallestAngleCosine(this->M.triangles[t]) > cosine;
+  };
+  // Below an angle up to minimumAngle, with no kept wedge, only bad triangles: after run(),
+  // those it left (unless its mesh was taken away since) are all there is to look at.
+  std::vector<int> list;
+  if (this->Ran && this->Kept.empty() && cosine >= this->CosBad &&
+    (this->BadAfterRun.empty() ||
+      this->BadAfterRun.back() < static_cast<int>(this->M.triangles.size())))
+  {
+    std::copy_if(
+      this->BadAfterRun.begin(), this->BadAfterRun.end(), std::back_inserter(list), below);
+  }
+  else
+  {
+    list = this->selectTriangles(below);
+  }
+  for (const int t : list)
   {
     const auto& tri = this->M.triangles[t];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
@@ -4098,12 +4261,15 @@ RefinementResult refinePass(RegionMesh& mesh,
   const RefinementParams& params,
   bool last,
   bool everyTip,
+  const RecoveryMemo* memo,
+  RecoveryMemo* keep,
+  LargeVector<std::array<int, 3>>* neighbours,
   const ProgressReporter& progress)
 {
   const std::vector<Zone> none;
   Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
-  base.prepare(); // mesh is constrained Delaunay from here on
-  const std::size_t recovered = base.recoverCurves();
+  base.prepare(neighbours); // mesh is constrained Delaunay from here on
+  const std::size_t recovered = base.recoverCurves(memo, keep);
   const std::size_t followed = base.followCurves();
   if (everyTip)
   {
@@ -4120,9 +4286,12 @@ RefinementResult refinePass(RegionMesh& mesh,
   RegionMesh best = mesh;
   Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
   cautious.adopt(base);
-  RefinementResult bestResult = cautious.run();
-  double bestAngle = cautious.minimumAngle();
+  const std::vector<int> firstBad =
+    params.minimumAngle > 0.0 ? cautious.badTriangles() : std::vector<int>();
+  RefinementResult bestResult = cautious.run(&firstBad);
+  double bestAngle = cautious.angleAfterRun();
   std::vector<Zone> zones;
+  LargeVector<std::array<int, 3>> boldNeighbours; // of the bold run kept, if one is
   for (int round = 0;
        round < kBoldRuns && params.minimumAngle > 0.0 && bestAngle < params.minimumAngle;
        ++round)
@@ -4135,14 +4304,15 @@ RefinementResult refinePass(RegionMesh& mesh,
       zones,
       progress.sub(0.3 + 0.65 * round / kBoldRuns, 0.3 + 0.65 * (round + 1) / kBoldRuns));
     run.adopt(base);
-    const RefinementResult result = run.run();
-    const double angle = run.minimumAngle();
+    const RefinementResult result = run.run(&firstBad); // (the same mesh as the cautious run's)
+    const double angle = run.angleAfterRun();
     if (angle > bestAngle + 1e-9 ||
       (angle >= bestAngle - 1e-9 && result.badTrianglesLeft < bestResult.badTrianglesLeft))
     {
       best = std::move(bold);
       bestResult = result;
       bestAngle = std::max(angle, bestAngle);
+      boldNeighbours = run.takeNeighbours();
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
@@ -4152,7 +4322,10 @@ RefinementResult refinePass(RegionMesh& mesh,
     ? collapseShortEdgesAvoiding(best, params, base.keptDisks(), base.extendedSides())
     : 0;
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
-  polish.prepare();
+  // (The kept run's neighbours, unless the collapses changed the mesh since.)
+  LargeVector<std::array<int, 3>> keptNeighbours =
+    boldNeighbours.empty() ? cautious.takeNeighbours() : std::move(boldNeighbours);
+  polish.prepare(cutCollapses == 0 ? &keptNeighbours : nullptr);
   polish.keepWedges(base);
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
@@ -4186,10 +4359,10 @@ RefinementResult refinePass(RegionMesh& mesh,
     sized += mender.splitLongEdges();
     bestResult.delaunayFlips += mender.flips() - flipsBefore;
   }
-  (collapsed ? *collapsed : polish).countBad(bestResult);
+  const double angle = (collapsed ? *collapsed : polish).countBad(bestResult);
   if (last)
   {
-    bestResult.minimumAngle = (collapsed ? *collapsed : polish).minimumAngle();
+    bestResult.minimumAngle = angle;
   }
   bestResult.keptCorners = keptCorners;
   bestResult.extendedWedges = extendedWedges;
@@ -4199,6 +4372,11 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.sizeVertices = sized;
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
+  if (neighbours)
+  {
+    // (For the next pass: the mesh's neighbours, as the refiner that changed it last has them.)
+    *neighbours = (collapsed ? *collapsed : polish).takeNeighbours();
+  }
   mesh = std::move(best);
   return bestResult;
 }
@@ -4230,6 +4408,10 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   }
   RefinementResult total;
   const int passes = params.curvePoint && params.regionAt ? kRecoveryPasses : 1;
+  // The curve recovery's answers, from each pass for the next (and for the last pass made
+  // again): most of the mesh is unchanged between them.
+  RecoveryMemo memos[2];
+  LargeVector<std::array<int, 3>> neighbours; // the mesh's, from each pass for the next
   const bool amongRegions = std::any_of(params.wedgeCorners.begin(),
     params.wedgeCorners.end(),
     [](const SharpCorner& c) { return c.amongRegions; });
@@ -4253,7 +4435,14 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       before->level = mesh.level;
       part.report(0.0, stage);
     }
-    RefinementResult r = refinePass(mesh, splitter, params, last, passes > 1 && last, part);
+    const RecoveryMemo* memo = pass > 0 ? &memos[(pass - 1) % 2] : nullptr;
+    RecoveryMemo* keep = !last || before ? &memos[pass % 2] : nullptr;
+    RefinementResult r =
+      refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &neighbours, part);
+    if (memo)
+    {
+      memos[(pass - 1) % 2] = RecoveryMemo(); // (its memory)
+    }
     if (before && r.minimumAngle < params.minimumAngle - 1e-9)
     {
       // 7': the wedges among regions with a triangle below minimumAngle within twice their
@@ -4274,8 +4463,8 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       if (without.wedgeCorners.size() < params.wedgeCorners.size())
       {
         // (Its progress stays at the pass's end: the fractions never go back.)
-        RefinementResult other =
-          refinePass(*before, splitter, without, last, passes > 1, part.sub(1.0, 1.0));
+        RefinementResult other = refinePass(
+          *before, splitter, without, last, passes > 1, keep, nullptr, nullptr, part.sub(1.0, 1.0));
         if (other.minimumAngle > r.minimumAngle + 1e-9)
         {
           mesh = std::move(*before);
