@@ -2510,43 +2510,20 @@ std::size_t Refiner::smoothBad()
       todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
     }
     sortUnique(todo);
-    // The stars of those vertices (each its triangles, increasing): todo[i]'s are
-    // items[start[i]] to items[start[i + 1]].
-    std::vector<int> slot(this->M.points.size(), -1), start(todo.size() + 1, 0), items;
-    for (std::size_t i = 0; i < todo.size(); ++i)
+    std::vector<char> inTodo(this->M.points.size(), 0);
+    for (int v : todo)
     {
-      slot[todo[i]] = static_cast<int>(i);
+      inTodo[v] = 1;
     }
-    for (const auto& tri : this->M.triangles)
-    {
-      for (int v : tri)
-      {
-        start[slot[v] + 1] += slot[v] >= 0;
-      }
-    }
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    items.resize(static_cast<std::size_t>(start.back()));
-    {
-      std::vector<int> fill(start.begin(), start.end() - 1);
-      for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
-      {
-        for (int v : this->M.triangles[t])
-        {
-          if (slot[v] >= 0)
-          {
-            items[fill[slot[v]]++] = static_cast<int>(t);
-          }
-        }
-      }
-    }
+    const PointStars stars = pointStars(this->M.points.size(), this->M.triangles, &inTodo);
     std::size_t moved = 0;
     std::vector<int> link, ends, regions;
     std::vector<Vec2> candidates;
     for (int v : todo)
     {
       this->poll();
-      const int* first = items.data() + start[slot[v]];
-      const int* last = items.data() + start[slot[v] + 1];
+      const int* first = stars.items.data() + stars.start[v];
+      const int* last = stars.items.data() + stars.start[v + 1];
       link.clear();
       ends.clear(); // the other ends of its boundary edges
       regions.clear();
@@ -3816,11 +3793,9 @@ void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
       this->smallestAngleCosine(this->M.triangles[t]) > cosine;
   };
   // Below an angle up to minimumAngle, with no kept wedge, only bad triangles: after run(),
-  // those it left (unless its mesh was taken away since) are all there is to look at.
+  // those it left are all there is to look at.
   std::vector<int> list;
-  if (this->Ran && this->Kept.empty() && cosine >= this->CosBad &&
-    (this->BadAfterRun.empty() ||
-      this->BadAfterRun.back() < static_cast<int>(this->M.triangles.size())))
+  if (this->Ran && this->Kept.empty() && cosine >= this->CosBad)
   {
     std::copy_if(
       this->BadAfterRun.begin(), this->BadAfterRun.end(), std::back_inserter(list), below);
@@ -3839,7 +3814,9 @@ void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
 }
 } // namespace
 
-PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles)
+PointStars pointStars(std::size_t numberOfPoints,
+  const LargeVector<std::array<int, 3>>& triangles,
+  const std::vector<char>* only)
 {
   PointStars stars;
   stars.start.assign(numberOfPoints + 1, 0);
@@ -3847,7 +3824,7 @@ PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<i
   {
     for (int v : tri)
     {
-      ++stars.start[v + 1];
+      stars.start[v + 1] += !only || (*only)[v];
     }
   }
   for (std::size_t i = 0; i < numberOfPoints; ++i)
@@ -3860,7 +3837,10 @@ PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<i
   {
     for (int v : triangles[t])
     {
-      stars.items[fill[v]++] = static_cast<int>(t);
+      if (!only || (*only)[v])
+      {
+        stars.items[fill[v]++] = static_cast<int>(t);
+      }
     }
   }
   return stars;
@@ -4313,6 +4293,7 @@ RefinementResult refinePass(RegionMesh& mesh,
       bestResult = result;
       bestAngle = std::max(angle, bestAngle);
       boldNeighbours = run.takeNeighbours();
+      continue; // (its triangles are not below the best angle: no zone)
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }

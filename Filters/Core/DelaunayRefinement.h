@@ -217,13 +217,16 @@ struct RefinementResult
 
 /// The triangles around each point of a triangle list: those around point v are
 /// items[start[v]] .. items[start[v + 1] - 1], in increasing order. Point ids must lie in
-/// [0, numberOfPoints).
+/// [0, numberOfPoints). With `only` (numberOfPoints flags), the stars of the flagged points
+/// alone (the others empty).
 struct PointStars
 {
   LargeVector<int> start; ///< numberOfPoints + 1 offsets
   LargeVector<int> items; ///< triangle ids
 };
-PointStars pointStars(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles);
+PointStars pointStars(std::size_t numberOfPoints,
+  const LargeVector<std::array<int, 3>>& triangles,
+  const std::vector<char>* only = nullptr);
 
 /// Ruppert / Ungor refinement restricted to the regions (see DelaunayRefinement.cpp): flips
 /// the mesh to constrained Delaunay, then inserts the off-centre of every bad triangle, or,

@@ -1705,3 +1705,34 @@ TEST(DelaunayRefinementTest, LargeMeshesAreSweptOnTwoThreadsWithTheSerialOutcome
   RegionMesh aborted = m;
   EXPECT_THROW(strata::refineDelaunay(aborted, middle, {}, progress), strata::Aborted);
 }
+
+TEST(DelaunayRefinementTest, PointStarsListEachPointsTrianglesInOrderAndOnlyTheFlaggedOnes)
+{
+  // A fan of four triangles around point 4 (the centre of a square), and a fifth beside it.
+  strata::LargeVector<std::array<int, 3>> triangles;
+  for (const std::array<int, 3>& t : std::vector<std::array<int, 3>>{
+         { 0, 1, 4 }, { 1, 2, 4 }, { 2, 3, 4 }, { 3, 0, 4 }, { 1, 5, 2 } })
+  {
+    triangles.push_back(t);
+  }
+  const std::size_t np = 6;
+  const auto starOf = [](const strata::PointStars& s, int v)
+  { return std::vector<int>(s.items.begin() + s.start[v], s.items.begin() + s.start[v + 1]); };
+
+  const strata::PointStars all = strata::pointStars(np, triangles);
+  ASSERT_EQ(all.start.size(), np + 1);
+  EXPECT_EQ(starOf(all, 4), (std::vector<int>{ 0, 1, 2, 3 }));
+  EXPECT_EQ(starOf(all, 1), (std::vector<int>{ 0, 1, 4 }));
+  EXPECT_EQ(starOf(all, 5), (std::vector<int>{ 4 }));
+  EXPECT_EQ(all.items.size(), 3 * triangles.size());
+
+  std::vector<char> only(np, 0);
+  only[1] = only[5] = 1;
+  const strata::PointStars some = strata::pointStars(np, triangles, &only);
+  ASSERT_EQ(some.start.size(), np + 1);
+  for (int v = 0; v < static_cast<int>(np); ++v)
+  {
+    EXPECT_EQ(starOf(some, v), only[v] ? starOf(all, v) : std::vector<int>()) << "point " << v;
+  }
+  EXPECT_EQ(some.items.size(), 4u);
+}
