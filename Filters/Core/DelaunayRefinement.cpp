@@ -1457,7 +1457,7 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
   // not probed. Insertions change only the triangles they report (the new vertex's star).
   // The centroids' curve queries (geometry only: the rounds change regions, not positions)
   // are asked all at once first when the caller can answer them so.
-  const LargeVector<int> near = this->centroidRegionsNear(before);
+  LargeVector<int> near = this->centroidRegionsNear(before);
   std::vector<int> todo(queue.begin(), queue.end()), next;
   std::vector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
@@ -1549,7 +1549,7 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
     // This recovery's answers, for the next (the mesh as it was asked about).
     after->triangles = this->M.triangles;
     after->points = this->M.points;
-    after->near = near;
+    after->near = std::move(near); // (not needed here any more)
     after->probe.assign(this->M.triangles.size(), RecoveryMemo::kNotProbed);
     after->at.clear();
     for (std::size_t i = 0; i < probeT.size(); ++i)
