@@ -46,9 +46,7 @@ struct RefinementParams
   /// Model units (> 0 finite, or 0 for no floor). A bad triangle whose shortest edge is
   /// shorter than half this is left as it is, and a region boundary edge shorter than this is
   /// not split: the floor that ends the refinement where the input itself is finer (curves
-  /// closer than this, small input angles). Within this of a region boundary edge shorter
-  /// than 0.4 of it (two junctions close together), the floor is half that edge instead (and
-  /// at least a twentieth of this).
+  /// closer than this, small input angles).
   double minimumEdgeLength = 0.0;
   /// Model units (> 0 finite, or 0 for none). A region edge longer than this is split: in
   /// its middle, or, for a region boundary edge, at the point the BoundarySplitter gives (on
