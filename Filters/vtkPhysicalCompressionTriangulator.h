@@ -33,7 +33,8 @@
  * `UnresolvedRegions` (ids
  * of the regions keeping less than half their area, also named in a warning),
  * `BrokenRegions` (ids of the regions the mesh cuts into more pieces than the model has,
- * where a layer is thinner than the finest triangles; also named in a warning),
+ * where a layer is thinner than the finest triangles, or leaves with fewer; also named in a
+ * warning),
  * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
  * that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below MinimumAngle by more
  * than 0.05 degrees that neither an input corner nor a kept one forces; a warning names the
@@ -302,7 +303,7 @@ public:
    * - Then, with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length
    *   field), CurveRecovery and MinimumAngle 25 or more: still below 25 degrees where no input
    *   corner forces it, a region's area still off by more than 0.5%, or, with MaxLevel
-   *   automatic too, a region cut into more pieces than the model has (`BrokenRegions`) or a
+   *   automatic too, a region with more or fewer pieces than the model has (`BrokenRegions`) or a
    *   `MaxRelativeBoundaryDeviation` above 0.55: made again with LocalMaxLevel 4 levels finer
    *   and, when that one is kept and still misses, 2 levels finer again; when that third one
    *   is kept and still cuts a region, 2 levels finer once more (field `LocalMaxLevel`).

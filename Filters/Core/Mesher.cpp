@@ -23,7 +23,8 @@
 //                       distances through SegmentGrids first, and over the local edge: the
 //                       curves sampled every quarter finest edge on two threads, region areas),
 //                       regions keeping less than half their area reported by id, and
-//                       regions cut into more pieces than the model has (pieces joined
+//                       regions cut into more pieces than the model has or left with fewer
+//                       (pieces joined
 //                       across edges, at least 4 median boundary edges squared)
 // Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
 // min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept), the 0.5% area
@@ -1206,7 +1207,9 @@ double medianBoundaryEdge(const std::vector<MesherResult::BoundaryCurve>& bounda
 // The pieces of each region at least `floor` in area: in the model its counter-clockwise
 // rings (outer boundaries), in the mesh its triangles joined across shared edges (`edges`,
 // the mesh's; each edge once, from its lower vertex id). Returns "id (mesh/model)" for each
-// region the mesh has more such pieces of, and their ids in `broken`.
+// region the mesh has more such pieces of, or fewer than it has apart (not touching at a node:
+// a piece lost, or its tip cut off and the rest below the floor; f146_loops of
+// random_faulted_sections.py 142 154), and their ids in `broken`.
 std::string brokenRegions(const Model& model,
   const MesherResult& result,
   const DirectedEdges& edges,
@@ -1259,13 +1262,43 @@ std::string brokenRegions(const Model& model,
   std::string text;
   for (const Region& r : model.regions)
   {
-    int pieces = 0;
+    // The region's pieces, and, for a mesh with fewer, those apart: pieces that touch at a node
+    // count as one there (the mesh may fill the wedge between them, which is not two finest
+    // edges wide; Marmousi's regions 2 and 6).
+    std::vector<int> up;
+    std::map<int, int> pieceAt; // node -> a piece through it
+    const auto root = [&up](int k)
+    {
+      while (up[k] != k)
+      {
+        k = up[k] = up[up[k]];
+      }
+      return k;
+    };
     for (const Ring& ring : r.rings)
     {
-      pieces += ringArea(ring) >= floor;
+      if (ringArea(ring) >= floor)
+      {
+        const int k = static_cast<int>(up.size());
+        up.push_back(k);
+        for (const int node : ring.nodes)
+        {
+          const auto [at, fresh] = pieceAt.emplace(node, k);
+          if (!fresh)
+          {
+            up[root(k)] = root(at->second);
+          }
+        }
+      }
+    }
+    const int pieces = static_cast<int>(up.size());
+    int apart = 0;
+    for (int k = 0; k < pieces; ++k)
+    {
+      apart += root(k) == k;
     }
     const auto it = meshPieces.find(r.id);
-    if (it != meshPieces.end() && it->second > pieces)
+    if (it != meshPieces.end() && (it->second > pieces || it->second < apart))
     {
       broken.push_back(r.id);
       text += (text.empty() ? "" : ", ") + std::to_string(r.id) + " (" +
@@ -2162,8 +2195,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
   if (!broken.empty())
   {
     result.warnings.push_back("regions the mesh cuts into more pieces than the model has, where "
-                              "a layer is thinner than the finest triangles (region id and "
-                              "pieces in the mesh / in the model): " +
+                              "a layer is thinner than the finest triangles, or leaves with fewer "
+                              "(region id and pieces in the mesh / in the model): " +
       broken + "; raise LocalMaxLevel or lower MinimumEdgeLength to keep them whole");
   }
 
@@ -2443,7 +2476,7 @@ MesherResult triangulate(const RawPolylines& input,
     {
       std::snprintf(text,
         sizeof(text),
-        "cut %zu region(s) into more pieces than the model has",
+        "cut %zu region(s) into more pieces than the model has (or left fewer)",
         r.brokenRegions.size());
     }
     else

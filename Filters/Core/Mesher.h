@@ -79,7 +79,8 @@ struct MesherParams
   /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
   /// angle: a mesh still below 25 degrees (layers about a finest edge thick), or with a
   /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
-  /// region cut into more pieces than the model has (MesherResult::brokenRegions) or its
+  /// region cut into more pieces than the model has or left with fewer
+  /// (MesherResult::brokenRegions) or its
   /// Summary::maxRelativeDeviation still above 0.55, is made again with grid.localMaxLevel 4
   /// levels finer than the automatic one, and kept when its smallest angle is larger, or when
   /// it mends the area, the pieces or the deviation without a smaller smallest angle (up to 30
@@ -129,10 +130,12 @@ struct MesherResult
   /// Ids of the regions whose triangles cover less than half of their model area (regions
   /// thinner or smaller than the finest triangles); each is also named in `warnings`.
   std::vector<int> unresolvedRegions;
-  /// Ids of the regions the mesh cuts into more pieces than the model has (pieces of at
-  /// least 4 median boundary edge lengths squared counted on both sides, as the independent
-  /// checker counts them; mesh pieces joined across edges): a layer broken where it is thinner
-  /// than the finest triangles. Each is also named in `warnings`, with both counts.
+  /// Ids of the regions the mesh cuts into more pieces than the model has, or leaves with
+  /// fewer than it has apart (pieces of at least 4 median boundary edge lengths squared counted
+  /// on both sides, as the independent checker counts them; mesh pieces joined across edges;
+  /// model pieces touching at a node count as one for `fewer`): a layer broken where it is
+  /// thinner than the finest triangles, or a piece lost (its tip cut off and the rest below
+  /// that floor). Each is also named in `warnings`, with both counts.
   std::vector<int> brokenRegions;
   /// The corners MesherParams::keepSharpCorners kept: the region `region`'s corner of `angle`
   /// degrees at `apex` (local); its wedge reaches `radius` from the apex, and its triangles are

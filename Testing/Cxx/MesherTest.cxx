@@ -1679,6 +1679,30 @@ TEST(MesherTest, AMeshWithABoundaryVertexOffTheCurvesIsMadeAgain)
   EXPECT_NE(warnings.find("the second one is kept"), std::string::npos) << warnings;
 }
 
+// A region left with fewer pieces than the model has is a miss too (lost_wedge_tip_loops.vtp,
+// LocalMaxLevel 16 automatic): made once, a stretch of a layer's wedge about 3.5 finest edges
+// thick, beside a sliver narrower than the finest edge (whose curve points the boundary measure
+// leaves out), goes to its neighbour and cuts off the wedge's tip; the rest of that piece of
+// region 6 falls below the piece floor, so the mesh has one piece of it where the model has
+// two, named in BrokenRegions. By default the mesh is made again 4 levels finer, where region 6
+// keeps both pieces.
+TEST(MesherTest, ARegionLeftWithFewerPiecesThanTheModelIsMadeAgainFiner)
+{
+  const auto [raw, r] = madeOnce("lost_wedge_tip_loops.vtp");
+  ASSERT_EQ(r.brokenRegions, std::vector<int>{ 6 });
+  EXPECT_NE(allWarnings(r).find("6 (1/2)"), std::string::npos) << allWarnings(r);
+
+  const strata::MesherResult d = strata::triangulate(raw);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_TRUE(d.brokenRegions.empty());
+  EXPECT_GE(d.summary.minAngle, 29.95);
+  EXPECT_LE(d.summary.maxRegionAreaError, 0.005);
+  EXPECT_NE(allWarnings(d).find("cut 1 region(s) into more pieces than the model has (or left "
+                                "fewer)"),
+    std::string::npos)
+    << allWarnings(d);
+}
+
 // Sizes set in model units keep the boundary bound: a mesh that misses it is made again with
 // ThinLayerRefinement around the misses, at the same finest edge (sized_lost_piece_loops.vtp at
 // MaximumEdgeLength 20, MinimumEdgeLength 0.5: made once, a piece of a layer goes to its
