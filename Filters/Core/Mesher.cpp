@@ -24,8 +24,8 @@
 //                       curves sampled every quarter finest edge on two threads, region areas),
 //                       regions keeping less than half their area reported by id, and
 //                       regions cut into more pieces than the model has or left with fewer
-//                       (pieces joined
-//                       across edges, at least 4 median boundary edges squared)
+//                       (pieces joined across edges, at least 4 median boundary edges squared;
+//                       model pieces touching at a node one for fewer)
 // Thin layers (MesherParams::thinLayerRetry, grid.thinLayerRefinement): a mesh that misses
 // min(MinimumAngle, 30) (by more than 0.05 degrees, unless corners are kept), the 0.5% area
 // bound, issue 4's (every vertex of the approximated boundary on a curve) or (with no level
