@@ -1204,6 +1204,18 @@ double medianBoundaryEdge(const std::vector<MesherResult::BoundaryCurve>& bounda
   return std::sqrt(lengths[lengths.size() / 2]);
 }
 
+// The root of k in a union-find forest of parent links (halving the paths on the way).
+template<class Parents>
+int rootOf(Parents& parent, int k)
+{
+  while (parent[k] != k)
+  {
+    parent[k] = parent[parent[k]];
+    k = parent[k];
+  }
+  return k;
+}
+
 // The pieces of each region at least `floor` in area: in the model its counter-clockwise
 // rings (outer boundaries), in the mesh its triangles joined across shared edges (`edges`,
 // the mesh's; each edge once, from its lower vertex id). Returns "id (mesh/model)" for each
@@ -1222,15 +1234,7 @@ std::string brokenRegions(const Model& model,
   {
     parent[t] = static_cast<int>(t);
   }
-  const auto find = [&](int t)
-  {
-    while (parent[t] != t)
-    {
-      parent[t] = parent[parent[t]];
-      t = parent[t];
-    }
-    return t;
-  };
+  const auto find = [&parent](int t) { return rootOf(parent, t); };
   for (std::size_t a = 0; a + 1 < edges.start.size(); ++a)
   {
     for (int s = edges.start[a]; s < edges.start[a + 1]; ++s)
@@ -1267,14 +1271,7 @@ std::string brokenRegions(const Model& model,
     // edges wide; Marmousi's regions 2 and 6).
     std::vector<int> up;
     std::map<int, int> pieceAt; // node -> a piece through it
-    const auto root = [&up](int k)
-    {
-      while (up[k] != k)
-      {
-        k = up[k] = up[up[k]];
-      }
-      return k;
-    };
+    const auto root = [&up](int k) { return rootOf(up, k); };
     for (const Ring& ring : r.rings)
     {
       if (ringArea(ring) >= floor)
