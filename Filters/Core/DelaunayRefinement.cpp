@@ -273,10 +273,12 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <iterator>
 #include <map>
 #include <numeric>
 #include <optional>
+#include <queue>
 #include <set>
 #include <string>
 #include <tuple>
@@ -2204,95 +2206,173 @@ std::size_t Refiner::dissolveCorners()
     countTriangles();
     sumAreas();
   }
-  std::vector<int> piece = this->pieces();
-  std::size_t total = this->dissolveThinPieces(piece, regionTwice, count);
-  std::vector<int> todo(this->M.triangles.size()), next;
-  std::iota(todo.begin(), todo.end(), 0);
+  // The pieces (pieces()) only when a thin piece may be dissolved or a longer triangle asks
+  // (at 1 M neither, mostly: 0.04 s a sweep); until then the retags are journalled, so that
+  // the pieces are those of the mesh before them, followed by the retags, as if made first.
+  const double thin = 0.25 * this->P.minimumEdgeLength;
+  const std::vector<int> thinTriangles = this->selectTriangles(
+    [&](int t)
+    {
+      const auto& tri = this->M.triangles[t];
+      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+      return this->M.region[t] >= 0 && this->Live[t] &&
+        orient2d(a, b, c) < thin * (norm(b - a) + norm(c - b) + norm(a - c));
+    });
+  std::vector<int> piece;
+  bool havePieces = false;
+  struct Retag
+  {
+    int t, from, to, beside; // beside: the neighbour whose piece t joins (-1: none)
+  };
+  std::vector<Retag> journal;
+  const auto makePieces = [&]()
+  {
+    if (havePieces)
+    {
+      return;
+    }
+    for (auto it = journal.rbegin(); it != journal.rend(); ++it)
+    {
+      this->M.region[it->t] = it->from;
+    }
+    piece = this->pieces();
+    for (const Retag& r : journal)
+    {
+      this->M.region[r.t] = r.to;
+      piece[r.t] = r.beside >= 0 ? piece[r.beside] : -1;
+    }
+    havePieces = true;
+  };
+  std::size_t total = 0;
+  if (!thinTriangles.empty())
+  {
+    makePieces(); // (a thin piece has a thin triangle)
+    total = this->dissolveThinPieces(piece, regionTwice, count);
+  }
+  std::vector<int> next;
+  const auto visit = [&](int t)
+  {
+    this->poll();
+    const int old = this->M.region[t];
+    if (old < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle)
+    {
+      return; // no sharp corner (most triangles)
+    }
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    // A speck: no neighbour of its own region and an inradius below minimumEdgeLength, or
+    // one such neighbour and an inradius below half of it (a sliver a retag left between
+    // other regions, or hanging from its region into another); any length.
+    int own = 0;
+    for (int n : this->Nbr[t])
+    {
+      own += n >= 0 && this->M.region[n] == old;
+    }
+    const double twiceArea = orient2d(a, b, c), perimeter = norm(b - a) + norm(c - b) + norm(a - c);
+    const bool speck = (own == 0 && twiceArea < this->P.minimumEdgeLength * perimeter) ||
+      (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
+    const bool longer = !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
+    if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
+      (!speck && this->meshSpike(t)))
+    {
+      return;
+    }
+    if (longer)
+    {
+      makePieces(); // (before the trial retags below)
+    }
+    // (A region beside it is preferred to the exterior whenever one raises the angle: the
+    // mesh's outer border stays where it is; a wedge's tip at a section's side given to the
+    // exterior left a notch in it, m110 of random_sections.py 100 112.)
+    const double before = around(t) + 1e-9;
+    double best = before, bestOutside = before;
+    int bestRegion = old, bestBeside = -1;
+    for (int k = 0; k < 3; ++k)
+    {
+      const int n = this->Nbr[t][k];
+      if ((n < 0 && !speck) || (n >= 0 && (this->M.region[n] == old || !this->Live[n])))
+      {
+        continue; // the mesh's outer border: nothing beyond (but a speck goes there)
+      }
+      const int r = n >= 0 ? this->M.region[n] : -1;
+      this->M.region[t] = r;
+      // Its new boundary edges join vertices on curves; a longer one joins no two pieces of
+      // region r (a wedge's tip between two of them, in a section cut by faults).
+      bool keepsCurves = true;
+      for (int j = 0; j < 3 && keepsCurves; ++j)
+      {
+        const int m = this->Nbr[t][j];
+        keepsCurves = (m >= 0 ? this->M.region[m] : -1) == r ||
+          (this->P.onCurve(this->X(tri[j])) && this->P.onCurve(this->X(tri[(j + 1) % 3])));
+        keepsCurves = keepsCurves &&
+          !(longer && r >= 0 && m >= 0 && this->M.region[m] == r && piece[m] != piece[n]);
+      }
+      const double angle = keepsCurves ? around(t) : -1.0;
+      this->M.region[t] = old;
+      if (r < 0 && angle > bestOutside)
+      {
+        bestOutside = angle;
+      }
+      else if (r >= 0 && angle > best)
+      {
+        best = angle;
+        bestRegion = r;
+        bestBeside = n;
+      }
+    }
+    if (bestRegion == old && bestOutside > before)
+    {
+      bestRegion = -1;
+      bestBeside = -1;
+    }
+    if (bestRegion != old)
+    {
+      if (havePieces)
+      {
+        piece[t] = bestBeside >= 0 ? piece[bestBeside] : -1;
+      }
+      else
+      {
+        journal.push_back({ t, old, bestRegion, bestBeside });
+      }
+      this->M.region[t] = bestRegion;
+      --count[old];
+      ++count[bestRegion];
+      ++total;
+      next.push_back(t); // it may have a sharp corner in its new region
+      this->appendNeighbours(t, next);
+    }
+  };
+  // The first sweep visits every triangle in order; those with no sharp region corner (found
+  // on two threads) are skipped unless a retag before them in the sweep changed a corner (a
+  // neighbour's). The later sweeps visit the retagged triangles and their neighbours.
+  std::vector<int> todo = this->selectTriangles(
+    [&](int t) {
+      return this->M.region[t] >= 0 && this->Live[t] && this->cornerAngle(t) < this->P.minimumAngle;
+    });
+  std::priority_queue<int, std::vector<int>, std::greater<int>> later; // (the first sweep)
   for (int sweep = 0; sweep < kDissolveSweeps && !todo.empty(); ++sweep)
   {
     next.clear();
-    for (int t : todo)
+    std::size_t i = 0;
+    while (i < todo.size() || !later.empty())
     {
-      this->poll();
-      const int old = this->M.region[t];
-      if (old < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle)
+      const int t =
+        later.empty() || (i < todo.size() && todo[i] < later.top()) ? todo[i] : later.top();
+      for (; i < todo.size() && todo[i] == t; ++i)
       {
-        continue; // no sharp corner (most triangles)
       }
-      const auto& tri = this->M.triangles[t];
-      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-      // A speck: no neighbour of its own region and an inradius below minimumEdgeLength, or
-      // one such neighbour and an inradius below half of it (a sliver a retag left between
-      // other regions, or hanging from its region into another); any length.
-      int own = 0;
-      for (int n : this->Nbr[t])
+      for (; !later.empty() && later.top() == t; later.pop())
       {
-        own += n >= 0 && this->M.region[n] == old;
       }
-      const double twiceArea = orient2d(a, b, c),
-                   perimeter = norm(b - a) + norm(c - b) + norm(a - c);
-      const bool speck = (own == 0 && twiceArea < this->P.minimumEdgeLength * perimeter) ||
-        (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
-      const bool longer =
-        !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
-      if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
-        (!speck && this->meshSpike(t)))
+      const std::size_t retagged = next.size();
+      visit(t);
+      for (std::size_t k = retagged; sweep == 0 && k < next.size(); ++k)
       {
-        continue;
-      }
-      // (A region beside it is preferred to the exterior whenever one raises the angle: the
-      // mesh's outer border stays where it is; a wedge's tip at a section's side given to the
-      // exterior left a notch in it, m110 of random_sections.py 100 112.)
-      const double before = around(t) + 1e-9;
-      double best = before, bestOutside = before;
-      int bestRegion = old, bestPiece = -1;
-      for (int k = 0; k < 3; ++k)
-      {
-        const int n = this->Nbr[t][k];
-        if ((n < 0 && !speck) || (n >= 0 && (this->M.region[n] == old || !this->Live[n])))
+        if (next[k] > t)
         {
-          continue; // the mesh's outer border: nothing beyond (but a speck goes there)
+          later.push(next[k]);
         }
-        const int r = n >= 0 ? this->M.region[n] : -1;
-        this->M.region[t] = r;
-        // Its new boundary edges join vertices on curves; a longer one joins no two pieces of
-        // region r (a wedge's tip between two of them, in a section cut by faults).
-        bool keepsCurves = true;
-        for (int j = 0; j < 3 && keepsCurves; ++j)
-        {
-          const int m = this->Nbr[t][j];
-          keepsCurves = (m >= 0 ? this->M.region[m] : -1) == r ||
-            (this->P.onCurve(this->X(tri[j])) && this->P.onCurve(this->X(tri[(j + 1) % 3])));
-          keepsCurves = keepsCurves &&
-            !(longer && r >= 0 && m >= 0 && this->M.region[m] == r && piece[m] != piece[n]);
-        }
-        const double angle = keepsCurves ? around(t) : -1.0;
-        this->M.region[t] = old;
-        if (r < 0 && angle > bestOutside)
-        {
-          bestOutside = angle;
-        }
-        else if (r >= 0 && angle > best)
-        {
-          best = angle;
-          bestRegion = r;
-          bestPiece = piece[n];
-        }
-      }
-      if (bestRegion == old && bestOutside > before)
-      {
-        bestRegion = -1;
-        bestPiece = -1;
-      }
-      if (bestRegion != old)
-      {
-        piece[t] = bestPiece;
-        this->M.region[t] = bestRegion;
-        --count[old];
-        ++count[bestRegion];
-        ++total;
-        next.push_back(t); // it may have a sharp corner in its new region
-        this->appendNeighbours(t, next);
       }
     }
     sortUnique(next);
@@ -4289,11 +4369,25 @@ RefinementResult refinePass(RegionMesh& mesh,
     if (angle > bestAngle + 1e-9 ||
       (angle >= bestAngle - 1e-9 && result.badTrianglesLeft < bestResult.badTrianglesLeft))
     {
+      bestAngle = std::max(angle, bestAngle);
+      // The next round would repeat this one (the same mesh and zones) and not be kept: it is
+      // skipped, its zones (this run's triangles below the best angle) added now. With none,
+      // every later round would repeat it too (the 1 M gulf's first pass: 0.08 s a round).
+      const bool more = round + 1 < kBoldRuns && bestAngle < params.minimumAngle;
+      const std::size_t zonesBefore = zones.size();
+      if (more)
+      {
+        run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
+      }
       best = std::move(bold);
       bestResult = result;
-      bestAngle = std::max(angle, bestAngle);
       boldNeighbours = run.takeNeighbours();
-      continue; // (its triangles are not below the best angle: no zone)
+      if (more && zones.size() == zonesBefore)
+      {
+        break;
+      }
+      round += more ? 1 : 0;
+      continue;
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
