@@ -503,6 +503,10 @@ public:
   /// The neighbours, for prepare() of the next refiner of this mesh (this one is done).
   LargeVector<std::array<int, 3>> takeNeighbours() { return std::move(this->Nbr); }
   void flipToDelaunay(const std::vector<int>* seeds = nullptr);
+  /// flipToDelaunay() when only the edges of `changed` (the triangles whose corners moved or
+  /// that changed otherwise since the last call) and those the last call left unflipped
+  /// (Unsettled) may need a flip: the same flips, in the same order, without the sweep.
+  void flipToDelaunayNear(std::vector<int> changed);
   /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted. With a
   /// memo, the answers kept there by the recovery before are taken for the triangles it asked
   /// about that are unchanged, and this recovery's answers are kept in `after` (when given).
@@ -514,8 +518,9 @@ public:
   std::size_t dissolveCorners();
   /// The tips of the region corners sharper than the bound in triangles too long and too
   /// large to be given away whole (or in every triangle, after cutEveryTip()), split off on
-  /// their curves (2c): returns the splits.
-  std::size_t cutTips(const std::map<int, double>& regionTwice);
+  /// their curves (2c): returns the splits. `sharp`: the triangles with a sharp region corner
+  /// now, increasing (until a cut changes the mesh, the only ones looked at).
+  std::size_t cutTips(const std::map<int, double>& regionTwice, const std::vector<int>& sharp);
   /// From here on, dissolveCorners() cuts the tip of every sharp region corner (2c: the
   /// curve recovery's last pass).
   void cutEveryTip() { this->EveryTip = true; }
@@ -704,6 +709,7 @@ private:
     return list;
   }
   bool needsFlip(int t, int k) const;
+  void flipStacked(LargeVector<std::array<int, 2>>& stack); // (flipToDelaunay()'s flips)
   bool flip(int t, int k);
   void legalize(int p, std::vector<int>& around);
   bool bad(int t) const;
@@ -814,6 +820,10 @@ private:
   double CosFloor = 1.0; // an insertion may not leave an angle below min(this, the old smallest)
   const std::vector<Zone>& Cautious;
   std::vector<int> Changed;
+  // Triangles with an edge the flips left needing one (refused, or a new diagonal that needs
+  // one by rounding): what flipToDelaunayNear() looks at besides the changed triangles.
+  std::vector<int> Unsettled;
+  std::vector<int>* FlipLog = nullptr; // flip() appends the two triangles it changes here
   RefinementResult R;
   double AngleAfterRun = 0.0;
   std::vector<int> BadAfterRun; // (zonesBelow(): after run(), the bad triangles)
@@ -964,6 +974,10 @@ bool Refiner::flip(int t, int k)
   this->replaceNeighbour(nbc, t, u);
   this->M.level[t] = this->M.level[u] = std::max(this->M.level[t], this->M.level[u]);
   ++this->R.delaunayFlips;
+  if (this->FlipLog)
+  {
+    this->FlipLog->insert(this->FlipLog->end(), { t, u });
+  }
   return true;
 }
 
@@ -1424,19 +1438,71 @@ void Refiner::flipToDelaunay(const std::vector<int>* seeds)
         }
       });
   }
+  if (!seeds)
+  {
+    this->Unsettled.clear();
+  }
+  this->flipStacked(stack);
+}
+
+void Refiner::flipToDelaunayNear(std::vector<int> changed)
+{
+  changed.insert(changed.end(), this->Unsettled.begin(), this->Unsettled.end());
+  this->Unsettled.clear();
+  sortUnique(changed);
+  // Their edges as the sweep of flipToDelaunay() names them (from the lower-numbered triangle),
+  // in its order, those that need a flip.
+  LargeVector<std::array<int, 2>> stack;
+  for (const int t : changed)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int u = this->Nbr[t][k];
+      if (u > t)
+      {
+        stack.push_back({ t, k });
+      }
+      else if (u >= 0)
+      {
+        const auto& nu = this->Nbr[u];
+        stack.push_back({ u, nu[0] == t ? 0 : (nu[1] == t ? 1 : 2) });
+      }
+    }
+  }
+  std::sort(stack.begin(), stack.end());
+  stack.erase(std::unique(stack.begin(), stack.end()), stack.end());
+  stack.erase(std::remove_if(stack.begin(),
+                stack.end(),
+                [this](const std::array<int, 2>& e) { return !this->needsFlip(e[0], e[1]); }),
+    stack.end());
+  this->flipStacked(stack);
+}
+
+void Refiner::flipStacked(LargeVector<std::array<int, 2>>& stack)
+{
   while (!stack.empty())
   {
     this->poll();
     const auto [t, k] = stack.back();
     stack.pop_back();
     const int u = this->Nbr[t][k];
-    if (this->needsFlip(t, k) && this->flip(t, k))
+    if (!this->needsFlip(t, k))
     {
-      // t = (c, a, d), u = (d, b, c): their outer edges are 0 and 1.
-      stack.push_back({ t, 0 });
-      stack.push_back({ t, 1 });
-      stack.push_back({ u, 0 });
-      stack.push_back({ u, 1 });
+      continue;
+    }
+    if (!this->flip(t, k))
+    {
+      this->Unsettled.push_back(t);
+      continue;
+    }
+    // t = (c, a, d), u = (d, b, c): their outer edges are 0 and 1, the new diagonal t's 2.
+    stack.push_back({ t, 0 });
+    stack.push_back({ t, 1 });
+    stack.push_back({ u, 0 });
+    stack.push_back({ u, 1 });
+    if (this->needsFlip(t, 2))
+    {
+      this->Unsettled.push_back(t);
     }
   }
 }
@@ -2201,23 +2267,56 @@ std::size_t Refiner::dissolveCorners()
     }
   };
   sumAreas();
-  if (this->cutTips(regionTwice) > 0)
+  // The triangles with a sharp region corner (increasing), and whether a live region triangle
+  // is thinner than dissolveThinPieces() looks for (a thin piece has one): one sweep, on two
+  // threads, made again when the mesh changed. Only such triangles can have a tip cut or be
+  // given away (in the first sweep below, until a retag changes a neighbour's corners).
+  const double thin = 0.25 * this->P.minimumEdgeLength;
+  std::vector<int> sharp;
+  bool anyThin = false;
+  const auto findSharp = [&]()
+  {
+    sharp.clear();
+    std::vector<int> parts[2];
+    bool thinPart[2] = { false, false };
+    this->sweepTriangles(
+      [&](int t, int part)
+      {
+        if (this->M.region[t] < 0 || !this->Live[t])
+        {
+          return;
+        }
+        if (this->cornerAngle(t) < this->P.minimumAngle)
+        {
+          parts[part].push_back(t);
+        }
+        if (!thinPart[part])
+        {
+          const auto& tri = this->M.triangles[t];
+          const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+          thinPart[part] = orient2d(a, b, c) < thin * (norm(b - a) + norm(c - b) + norm(a - c));
+        }
+      },
+      [&]
+      {
+        for (std::vector<int>& part : parts)
+        {
+          sharp.insert(sharp.end(), part.begin(), part.end());
+          part.clear();
+        }
+      });
+    anyThin = thinPart[0] || thinPart[1];
+  };
+  findSharp();
+  if (this->cutTips(regionTwice, sharp) > 0)
   {
     countTriangles();
     sumAreas();
+    findSharp();
   }
   // The pieces (pieces()) only when a thin piece may be dissolved or a longer triangle asks
   // (at 1 M neither, mostly: 0.04 s a sweep); until then the retags are journalled, so that
   // the pieces are those of the mesh before them, followed by the retags, as if made first.
-  const double thin = 0.25 * this->P.minimumEdgeLength;
-  const std::vector<int> thinTriangles = this->selectTriangles(
-    [&](int t)
-    {
-      const auto& tri = this->M.triangles[t];
-      const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-      return this->M.region[t] >= 0 && this->Live[t] &&
-        orient2d(a, b, c) < thin * (norm(b - a) + norm(c - b) + norm(a - c));
-    });
   std::vector<int> piece;
   bool havePieces = false;
   struct Retag
@@ -2244,10 +2343,14 @@ std::size_t Refiner::dissolveCorners()
     havePieces = true;
   };
   std::size_t total = 0;
-  if (!thinTriangles.empty())
+  if (anyThin)
   {
-    makePieces(); // (a thin piece has a thin triangle)
+    makePieces();
     total = this->dissolveThinPieces(piece, regionTwice, count);
+    if (total > 0)
+    {
+      findSharp();
+    }
   }
   std::vector<int> next;
   const auto visit = [&](int t)
@@ -2343,13 +2446,10 @@ std::size_t Refiner::dissolveCorners()
       this->appendNeighbours(t, next);
     }
   };
-  // The first sweep visits every triangle in order; those with no sharp region corner (found
-  // on two threads) are skipped unless a retag before them in the sweep changed a corner (a
+  // The first sweep visits every triangle in order; those with no sharp region corner (sharp)
+  // are skipped unless a retag before them in the sweep changed a corner (a
   // neighbour's). The later sweeps visit the retagged triangles and their neighbours.
-  std::vector<int> todo = this->selectTriangles(
-    [&](int t) {
-      return this->M.region[t] >= 0 && this->Live[t] && this->cornerAngle(t) < this->P.minimumAngle;
-    });
+  std::vector<int> todo = std::move(sharp);
   std::priority_queue<int, std::vector<int>, std::greater<int>> later; // (the first sweep)
   for (int sweep = 0; sweep < kDissolveSweeps && !todo.empty(); ++sweep)
   {
@@ -2488,15 +2588,29 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
   return total;
 }
 
-std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice)
+std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice,
+  const std::vector<int>& sharp)
 {
   const double finest = this->P.minimumEdgeLength;
   const double longest2 = std::pow(kDissolveLength * finest, 2);
   std::size_t cuts = 0;
   std::vector<int> created;
   const std::size_t nt = this->M.triangles.size();
+  std::size_t next = 0; // in sharp
   for (std::size_t i = 0; i < nt && this->Inserted + 2 <= this->Budget; ++i)
   {
+    if (cuts == 0 && this->M.triangles.size() == nt)
+    {
+      // (Nothing changed yet: the next triangle with a sharp region corner.)
+      for (; next < sharp.size() && static_cast<std::size_t>(sharp[next]) < i; ++next)
+      {
+      }
+      if (next == sharp.size())
+      {
+        break;
+      }
+      i = static_cast<std::size_t>(sharp[next]);
+    }
     this->poll();
     const int t = static_cast<int>(i);
     const int region = this->M.region[t];
@@ -2582,10 +2696,14 @@ double Refiner::starCosine(const int* first, const int* last, double& largest) c
 std::size_t Refiner::smoothBad()
 {
   std::size_t moves = 0;
+  // The bad triangles: found in a sweep first, then among those and the triangles a round
+  // changed (moved corners, flips), whose flips only are looked for (flipToDelaunayNear()).
+  std::vector<int> bad = this->badTriangles(), changed, flipped;
   for (int round = 0; round < kSmoothingRounds; ++round)
   {
     std::vector<int> todo;
-    for (const int t : this->badTriangles())
+    changed.clear();
+    for (const int t : bad)
     {
       todo.insert(todo.end(), this->M.triangles[t].begin(), this->M.triangles[t].end());
     }
@@ -2693,14 +2811,33 @@ std::size_t Refiner::smoothBad()
         }
       }
       this->M.points[v] = bestAt;
-      moved += !(bestAt == p);
+      if (!(bestAt == p))
+      {
+        ++moved;
+        changed.insert(changed.end(), first, last);
+      }
     }
     moves += moved;
     if (moved == 0)
     {
       break;
     }
-    this->flipToDelaunay();
+    flipped.clear();
+    this->FlipLog = &flipped;
+    if (round == 0)
+    {
+      this->flipToDelaunay(); // (no knowing what the caller left unflipped)
+    }
+    else
+    {
+      this->flipToDelaunayNear(changed);
+    }
+    this->FlipLog = nullptr;
+    bad.insert(bad.end(), changed.begin(), changed.end());
+    bad.insert(bad.end(), flipped.begin(), flipped.end());
+    sortUnique(bad);
+    bad.erase(
+      std::remove_if(bad.begin(), bad.end(), [this](int t) { return !this->bad(t); }), bad.end());
   }
   return moves;
 }
@@ -4407,6 +4544,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.boundaryVertices += base.tipVertices() + polish.tipVertices() + base.keptVertices();
   bestResult.delaunayFlips += flips + polish.flips();
   std::optional<Refiner> collapsed; // the refiner of the mesh after the collapses of 6
+  std::optional<double> counted;    // the smallest angle, when the last run's count holds
   if (last && params.minimumAngle > 0.0)
   {
     // The corners given away there leave triangles with unconstrained sharp corners behind
@@ -4431,10 +4569,19 @@ RefinementResult refinePass(RegionMesh& mesh,
     bestResult.boundaryVertices += mended.boundaryVertices;
     bestResult.budgetReached = bestResult.budgetReached || mended.budgetReached;
     // Edges the smoothing, the collapses or a flip made longer than maximumEdgeLength.
-    sized += mender.splitLongEdges();
+    const std::size_t splits = mender.splitLongEdges();
+    sized += splits;
     bestResult.delaunayFlips += mender.flips() - flipsBefore;
+    if (splits == 0)
+    {
+      // (The run counted what it left, on the mesh as it is: no sweep again.)
+      counted = mender.angleAfterRun();
+      bestResult.badTrianglesLeft = mended.badTrianglesLeft;
+      bestResult.badTrianglesAtCorners = mended.badTrianglesAtCorners;
+      bestResult.badCentroids = mended.badCentroids;
+    }
   }
-  const double angle = (collapsed ? *collapsed : polish).countBad(bestResult);
+  const double angle = counted ? *counted : (collapsed ? *collapsed : polish).countBad(bestResult);
   if (last)
   {
     bestResult.minimumAngle = angle;

@@ -805,10 +805,12 @@ bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) con
       bool tie = false;
       const Vec2* a = this->A.data();
       const Vec2* b = this->B.data();
-      for (int j = j0; j <= j1; ++j)
+      // Cells [u0, u1] of row j. In any order of the cells, the same closest segment (when
+      // single) and the same tie: two different segments at the smallest distance.
+      const auto cells = [&](int j, int u0, int u1)
       {
         const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
-        for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+        for (std::uint32_t k = this->Start[row + u0]; k < this->Start[row + u1 + 1]; ++k)
         {
           const int seg = this->Items[k];
           double t;
@@ -824,6 +826,45 @@ bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) con
           {
             tie = true; // the tree takes either, whichever it meets first
           }
+        }
+      };
+      // The 3 x 3 cells around p's first, when the box holds more: a segment they do not list
+      // lies beyond their border (the cells list every segment within the margin of them),
+      // so one found nearer than that border (by a relative 1e-6, over any rounding) settles
+      // it; else the other cells of the box are scanned too.
+      const int ci = this->cellOf(p.x, this->Origin.x, this->Nx);
+      const int cj = this->cellOf(p.y, this->Origin.y, this->Ny);
+      const bool inner = ci - 1 >= i0 && ci + 1 <= i1 && cj - 1 >= j0 && cj + 1 <= j1 &&
+        (i1 - i0 > 2 || j1 - j0 > 2);
+      bool settled = false;
+      if (inner)
+      {
+        for (int j = cj - 1; j <= cj + 1; ++j)
+        {
+          cells(j, ci - 1, ci + 1);
+        }
+        const double border = std::min({ p.x - (this->Origin.x + (ci - 1) * this->Cell),
+          this->Origin.x + (ci + 2) * this->Cell - p.x,
+          p.y - (this->Origin.y + (cj - 1) * this->Cell),
+          this->Origin.y + (cj + 2) * this->Cell - p.y });
+        settled = bestSeg >= 0 && border > 0.0 && best2 < (1.0 - 1e-6) * border * border;
+      }
+      for (int j = j0; j <= j1 && !settled; ++j)
+      {
+        if (inner && j >= cj - 1 && j <= cj + 1)
+        {
+          if (ci - 2 >= i0)
+          {
+            cells(j, i0, ci - 2);
+          }
+          if (ci + 2 <= i1)
+          {
+            cells(j, ci + 2, i1);
+          }
+        }
+        else
+        {
+          cells(j, i0, i1);
         }
       }
       if (tie && !ties)
