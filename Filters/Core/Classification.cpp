@@ -38,6 +38,7 @@
 #include "Classification.h"
 
 #include "Errors.h"
+#include "UnionFind.h"
 
 #include <algorithm>
 #include <cmath>
@@ -47,21 +48,6 @@
 
 namespace strata
 {
-
-namespace
-{
-
-int findRoot(LargeVector<int>& parent, int i)
-{
-  while (parent[i] != i)
-  {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-} // namespace
 
 Classification classify(const TriangleMesh& mesh,
   const Model& model,
@@ -210,8 +196,8 @@ Classification classify(const TriangleMesh& mesh,
     }
     else
     {
-      const int ra = findRoot(parent, a);
-      const int rb = findRoot(parent, b);
+      const int ra = rootOf(parent, a);
+      const int rb = rootOf(parent, b);
       if (ra != rb)
       {
         parent[std::max(ra, rb)] = std::min(ra, rb);
@@ -232,7 +218,7 @@ Classification classify(const TriangleMesh& mesh,
       c.vertexRegion[i] = regionOf(mesh.points[i]);
       continue;
     }
-    const int root = findRoot(parent, static_cast<int>(i));
+    const int root = rootOf(parent, static_cast<int>(i));
     if (root == static_cast<int>(i))
     {
       c.vertexRegion[i] = regionOf(mesh.points[i]);

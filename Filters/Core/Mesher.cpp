@@ -46,6 +46,7 @@
 #include "Parallel.h"
 #include "Quality.h"
 #include "StripTree.h"
+#include "UnionFind.h"
 
 #include <algorithm>
 #include <array>
@@ -1202,18 +1203,6 @@ double medianBoundaryEdge(const std::vector<MesherResult::BoundaryCurve>& bounda
   }
   std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
   return std::sqrt(lengths[lengths.size() / 2]);
-}
-
-// The root of k in a union-find forest of parent links (halving the paths on the way).
-template<class Parents>
-int rootOf(Parents& parent, int k)
-{
-  while (parent[k] != k)
-  {
-    parent[k] = parent[parent[k]];
-    k = parent[k];
-  }
-  return k;
 }
 
 // The pieces of each region at least `floor` in area: in the model its counter-clockwise
