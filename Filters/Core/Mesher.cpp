@@ -1781,25 +1781,17 @@ MesherResult triangulateOnce(const RawPolylines& input,
     approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds);
   progress.report(kOutputProgress, "writing the mesh");
   result.vertexClass.assign(result.points.size(), VertexInterior);
-  // The mesh's directed edges: the vertex classes here, the regions' pieces below.
+  // The mesh's directed edges: the local edges at the boundary and the regions' pieces below.
   const DirectedEdges edges(result.points.size(), result.triangles);
   const double medianEdge = medianBoundaryEdge(result.boundary);
+  // Boundary vertices: ends of an edge whose two sides have different regions (or one side
+  // no triangle), the approximated boundary's vertices (every such edge is on one of its
+  // curves).
+  for (const std::vector<int>& ids : boundaryIds)
   {
-    // Boundary vertices: ends of an edge whose two sides have different regions (or one side
-    // no triangle).
-    for (std::size_t a = 0; a < result.points.size(); ++a)
+    for (const int v : ids)
     {
-      poll();
-      for (int s = edges.start[a]; s < edges.start[a + 1]; ++s)
-      {
-        const auto [b, t] = edges.out[s];
-        const int u = edges.across(static_cast<int>(a), b);
-        if ((u >= 0 ? result.regionId[u] : -1) != result.regionId[t])
-        {
-          result.vertexClass[a] = VertexBoundary;
-          result.vertexClass[b] = VertexBoundary;
-        }
-      }
+      result.vertexClass[v] = VertexBoundary;
     }
   }
 
