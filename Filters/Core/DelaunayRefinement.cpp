@@ -153,7 +153,11 @@
 //    Up to 4 rounds, each followed by the flips of 2; then the corners of 2c once more, and
 //    after the last pass 6 and a cautious run of 3 (a wedge's tip given to its neighbour
 //    leaves the tip's sharp corner between edges that are no longer constrained, which
-//    insertions can now widen; the smoothing's moves are mended too).
+//    insertions can now widen; the smoothing's moves are mended too). When that run leaves
+//    triangles below minimumAngle, a bold run follows on a copy, bold only inside the disks
+//    of 4 around them and cautious elsewhere, kept when its smallest angle is larger (a
+//    sliver at a lake's shore whose boundary split the cautious run refused: 27.3 -> 30.0
+//    degrees; the bold floor anywhere else would let its cascades spread).
 // 6. Short edge collapses (after the last pass, with the smoothing's callbacks and onCurve).
 //    Where a tip was cut, the cut is often an edge shorter than the floor of 3, across the
 //    wedge between its two curves (Marmousi: 0.80 long against a floor of 0.875, its apex at
@@ -502,6 +506,10 @@ public:
   void prepare(LargeVector<std::array<int, 3>>* neighbours = nullptr);
   /// The neighbours, for prepare() of the next refiner of this mesh (this one is done).
   LargeVector<std::array<int, 3>> takeNeighbours() { return std::move(this->Nbr); }
+  /// From here on the zones given at construction are the only places where insertions may
+  /// go down to the floor; elsewhere they are cautious (never below the bound, or the old
+  /// smallest angle there).
+  void boldInside() { this->BoldInside = true; }
   void flipToDelaunay(const std::vector<int>* seeds = nullptr);
   /// flipToDelaunay() when only the edges of `changed` (the triangles whose corners moved or
   /// that changed otherwise since the last call) and those the last call left unflipped
@@ -543,6 +551,22 @@ public:
   std::vector<int> badTriangles() const
   {
     return this->selectTriangles([this](int t) { return this->bad(t); });
+  }
+  /// The bad triangles whose smallest angle is not a corner of the region (between two
+  /// constrained edges) unless a spike of the mesh's own: those an insertion may mend.
+  std::vector<int> mendableBad() const
+  {
+    std::vector<int> list = this->badTriangles();
+    list.erase(std::remove_if(list.begin(),
+                 list.end(),
+                 [this](int t)
+                 {
+                   const int c = this->smallestCorner(t);
+                   return this->constrained(t, c) && this->constrained(t, (c + 2) % 3) &&
+                     !this->meshSpike(t);
+                 }),
+      list.end());
+    return list;
   }
   /// Sets the result's counts of bad triangles (and of those at region corners); returns the
   /// smallest angle (degrees) of the region triangles outside the kept wedges. The bad
@@ -819,6 +843,7 @@ private:
   std::size_t Tri0 = 0, Points0 = 0, Flips0 = 0;
   double CosFloor = 1.0; // an insertion may not leave an angle below min(this, the old smallest)
   const std::vector<Zone>& Cautious;
+  bool BoldInside = false; // (boldInside()): the zones are where it is bold, not cautious
   std::vector<int> Changed;
   // Triangles with an edge the flips left needing one (refused, or a new diagonal that needs
   // one by rounding): what flipToDelaunayNear() looks at besides the changed triangles.
@@ -1212,11 +1237,13 @@ bool Refiner::commit()
       after = std::max(after, this->smallestAngleCosine(this->M.triangles[t]));
     }
   }
-  double floor = this->CosFloor;
+  double floor = this->BoldInside ? this->CosBad : this->CosFloor;
   const Vec2 w = this->M.points.back(); // the vertex this transaction inserted
   for (const Zone& z : this->Cautious)
   {
-    floor = norm2(w - z.center) < z.radius2 ? this->CosBad : floor; // cautious: the bound
+    // (cautious: the bound; with boldInside(), bold: the floor)
+    floor =
+      norm2(w - z.center) < z.radius2 ? (this->BoldInside ? this->CosFloor : this->CosBad) : floor;
   }
   if (after <= std::max(std::min(before, 1.0), floor) + 1e-12)
   {
@@ -4581,7 +4608,51 @@ RefinementResult refinePass(RegionMesh& mesh,
       bestResult.badCentroids = mended.badCentroids;
     }
   }
-  const double angle = counted ? *counted : (collapsed ? *collapsed : polish).countBad(bestResult);
+  double angle = counted ? *counted : (collapsed ? *collapsed : polish).countBad(bestResult);
+  Refiner* final = collapsed ? &*collapsed : &polish; // the refiner of the mesh kept
+  std::vector<Zone> near;                             // (finisher's zones)
+  std::optional<Refiner> finisher;
+  std::optional<RegionMesh> finished;
+  if (last && params.minimumAngle > 0.0 && angle < params.minimumAngle - 1e-9)
+  {
+    // (5, after the last pass) The cautious run left triangles below minimumAngle that an
+    // insertion may mend (a boundary split it refused, a sliver at a lake's shore: lake126
+    // of random_lakes_countries.py 118 130, 27.3 degrees): a bold run, bold only within
+    // twice their longest edge of them, on a copy, kept as the runs of 4 are (a larger
+    // smallest angle, or as large with fewer triangles below minimumAngle).
+    for (const int t : final->mendableBad())
+    {
+      const auto& tri = best.triangles[t];
+      const Vec2 a = best.points[tri[0]], b = best.points[tri[1]], c = best.points[tri[2]];
+      near.push_back({ (1.0 / 3.0) * (a + b + c),
+        4.0 * std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) });
+    }
+  }
+  if (!near.empty())
+  {
+    finished.emplace(best);
+    finisher.emplace(*finished, splitter, params, kBoldFloor, near, progress.sub(1.0, 1.0));
+    finisher->boldInside();
+    finisher->prepare();
+    finisher->keepWedges(base);
+    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
+    finisher->limitBudget(cautious.budget() - std::min(used, cautious.budget()));
+    const RefinementResult r = finisher->run();
+    const double after = finisher->angleAfterRun();
+    if (after > angle + 1e-9 ||
+      (after >= angle - 1e-9 && r.badTrianglesLeft < bestResult.badTrianglesLeft))
+    {
+      angle = std::max(after, angle);
+      bestResult.interiorVertices += r.interiorVertices;
+      bestResult.boundaryVertices += r.boundaryVertices;
+      bestResult.budgetReached = bestResult.budgetReached || r.budgetReached;
+      bestResult.delaunayFlips += r.delaunayFlips;
+      bestResult.badTrianglesLeft = r.badTrianglesLeft;
+      bestResult.badTrianglesAtCorners = r.badTrianglesAtCorners;
+      bestResult.badCentroids = r.badCentroids;
+      final = &*finisher;
+    }
+  }
   if (last)
   {
     bestResult.minimumAngle = angle;
@@ -4590,16 +4661,16 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.extendedWedges = extendedWedges;
   bestResult.keptCornerRadius = std::move(keptRadius);
   bestResult.keptCornerOutline = std::move(keptOutline);
-  bestResult.keptCornerTriangles = (collapsed ? *collapsed : polish).keptBad();
+  bestResult.keptCornerTriangles = final->keptBad();
   bestResult.sizeVertices = sized;
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
   if (neighbours)
   {
     // (For the next pass: the mesh's neighbours, as the refiner that changed it last has them.)
-    *neighbours = (collapsed ? *collapsed : polish).takeNeighbours();
+    *neighbours = final->takeNeighbours();
   }
-  mesh = std::move(best);
+  mesh = finisher && final == &*finisher ? std::move(*finished) : std::move(best);
   return bestResult;
 }
 } // namespace
