@@ -773,6 +773,13 @@ private:
     }
   }
   double cornerAngle(int t) const;
+  // Whether abc's inradius (2 area / perimeter) is below a quarter of minimumEdgeLength: a
+  // thin triangle, of which a thin piece is made (dissolveThinPieces()).
+  bool thin(Vec2 a, Vec2 b, Vec2 c) const
+  {
+    return orient2d(a, b, c) <
+      0.25 * this->P.minimumEdgeLength * (norm(b - a) + norm(c - b) + norm(a - c));
+  }
   int sharpestRegionCorner(int t, const std::array<double, 3>& angles) const;
   bool meshSpike(int t) const;
   bool inKept(int t) const;
@@ -2298,7 +2305,6 @@ std::size_t Refiner::dissolveCorners()
   // is thinner than dissolveThinPieces() looks for (a thin piece has one): one sweep, on two
   // threads, made again when the mesh changed. Only such triangles can have a tip cut or be
   // given away (in the first sweep below, until a retag changes a neighbour's corners).
-  const double thin = 0.25 * this->P.minimumEdgeLength;
   std::vector<int> sharp;
   bool anyThin = false;
   const auto findSharp = [&]()
@@ -2320,8 +2326,7 @@ std::size_t Refiner::dissolveCorners()
         if (!thinPart[part])
         {
           const auto& tri = this->M.triangles[t];
-          const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-          thinPart[part] = orient2d(a, b, c) < thin * (norm(b - a) + norm(c - b) + norm(a - c));
+          thinPart[part] = this->thin(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
         }
       },
       [&]
@@ -2524,7 +2529,6 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
   std::map<int, double>& regionTwice,
   std::map<int, std::size_t>& count)
 {
-  const double thin = 0.25 * this->P.minimumEdgeLength;
   // Per piece (ids from 1): thin so far, twice its area; then the thin ones' triangles.
   const int pieces = piece.empty() ? 0 : *std::max_element(piece.begin(), piece.end()) + 1;
   std::vector<std::uint8_t> thinPiece(static_cast<std::size_t>(pieces), 1);
@@ -2537,10 +2541,8 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
       continue;
     }
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-    const double twiceArea = orient2d(a, b, c);
-    const double perimeter = norm(b - a) + norm(c - b) + norm(a - c);
-    pieceTwice[piece[t]] += twiceArea;
-    thinPiece[piece[t]] &= this->Live[t] && twiceArea < thin * perimeter; // (inradius: 2A / P)
+    pieceTwice[piece[t]] += orient2d(a, b, c);
+    thinPiece[piece[t]] &= this->Live[t] && this->thin(a, b, c);
   }
   std::map<int, std::vector<int>> members; // thin piece -> triangles
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
@@ -4572,6 +4574,25 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.delaunayFlips += flips + polish.flips();
   std::optional<Refiner> collapsed; // the refiner of the mesh after the collapses of 6
   std::optional<double> counted;    // the smallest angle, when the last run's count holds
+  // For the runs after the kept one: what they may still insert (the kept run's budget, less
+  // what was used), what they add to the pass's result, and their count of what they left.
+  const auto budgetLeft = [&]()
+  {
+    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
+    return cautious.budget() - std::min(used, cautious.budget());
+  };
+  const auto addInsertions = [&](const RefinementResult& r)
+  {
+    bestResult.interiorVertices += r.interiorVertices;
+    bestResult.boundaryVertices += r.boundaryVertices;
+    bestResult.budgetReached = bestResult.budgetReached || r.budgetReached;
+  };
+  const auto takeCount = [&](const RefinementResult& r)
+  {
+    bestResult.badTrianglesLeft = r.badTrianglesLeft;
+    bestResult.badTrianglesAtCorners = r.badTrianglesAtCorners;
+    bestResult.badCentroids = r.badCentroids;
+  };
   if (last && params.minimumAngle > 0.0)
   {
     // The corners given away there leave triangles with unconstrained sharp corners behind
@@ -4589,12 +4610,9 @@ RefinementResult refinePass(RegionMesh& mesh,
     }
     Refiner& mender = collapsed ? *collapsed : polish;
     const std::size_t flipsBefore = mender.flips();
-    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
-    mender.limitBudget(cautious.budget() - std::min(used, cautious.budget()));
+    mender.limitBudget(budgetLeft());
     const RefinementResult mended = mender.run();
-    bestResult.interiorVertices += mended.interiorVertices;
-    bestResult.boundaryVertices += mended.boundaryVertices;
-    bestResult.budgetReached = bestResult.budgetReached || mended.budgetReached;
+    addInsertions(mended);
     // Edges the smoothing, the collapses or a flip made longer than maximumEdgeLength.
     const std::size_t splits = mender.splitLongEdges();
     sized += splits;
@@ -4603,13 +4621,11 @@ RefinementResult refinePass(RegionMesh& mesh,
     {
       // (The run counted what it left, on the mesh as it is: no sweep again.)
       counted = mender.angleAfterRun();
-      bestResult.badTrianglesLeft = mended.badTrianglesLeft;
-      bestResult.badTrianglesAtCorners = mended.badTrianglesAtCorners;
-      bestResult.badCentroids = mended.badCentroids;
+      takeCount(mended);
     }
   }
-  double angle = counted ? *counted : (collapsed ? *collapsed : polish).countBad(bestResult);
   Refiner* final = collapsed ? &*collapsed : &polish; // the refiner of the mesh kept
+  double angle = counted ? *counted : final->countBad(bestResult);
   std::vector<Zone> near;                             // (finisher's zones)
   std::optional<Refiner> finisher;
   std::optional<RegionMesh> finished;
@@ -4635,21 +4651,16 @@ RefinementResult refinePass(RegionMesh& mesh,
     finisher->boldInside();
     finisher->prepare();
     finisher->keepWedges(base);
-    const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
-    finisher->limitBudget(cautious.budget() - std::min(used, cautious.budget()));
+    finisher->limitBudget(budgetLeft());
     const RefinementResult r = finisher->run();
     const double after = finisher->angleAfterRun();
     if (after > angle + 1e-9 ||
       (after >= angle - 1e-9 && r.badTrianglesLeft < bestResult.badTrianglesLeft))
     {
       angle = std::max(after, angle);
-      bestResult.interiorVertices += r.interiorVertices;
-      bestResult.boundaryVertices += r.boundaryVertices;
-      bestResult.budgetReached = bestResult.budgetReached || r.budgetReached;
+      addInsertions(r);
       bestResult.delaunayFlips += r.delaunayFlips;
-      bestResult.badTrianglesLeft = r.badTrianglesLeft;
-      bestResult.badTrianglesAtCorners = r.badTrianglesAtCorners;
-      bestResult.badCentroids = r.badCentroids;
+      takeCount(r);
       final = &*finisher;
     }
   }
