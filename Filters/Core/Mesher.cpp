@@ -383,6 +383,7 @@ constexpr double kNarrowMargin = 0.1;
 // the warning.
 constexpr double kFinerDeviationBound = 0.55;
 constexpr int kDeviationSamples = 512;   // curve -> mesh samples per model segment, at most
+constexpr int kDeviationJump = 32;       // ... of which one stretch skips at most this many
 constexpr std::size_t kMaxMisses = 1024; // MesherResult::boundaryMisses, at most
 constexpr double kMissSpacing = 2.0;     // ... about this many local edges apart
 // ThinLayerRetry's second mesh after a boundary miss only: the thin layer refinement within
@@ -1807,6 +1808,15 @@ MesherResult triangulateOnce(const RawPolylines& input,
     struct Part
     {
       StripTreeScratch heap;
+      // A curve sample: its index on its segment, distance to the mesh's boundary, nearest
+      // boundary edge (-1: unknown); those met ahead of their turn.
+      struct Sample
+      {
+        int j;
+        double d;
+        int segment;
+      };
+      std::vector<Sample> ahead;
       double relative = 0.0, edge = 0.0; // the largest relative deviation, its local edge
       Vec2 at;                           // ... and where
       // The places above kDeviationBound, one per stretch of about kMissSpacing local edges.
@@ -1961,6 +1971,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
     {
       const StripTree tree(a, b);
       const SegmentGrid meshCells(a, b, cell, most(a.size()));
+      // The local edges, +infinity where none (relativeTo passes those edges by).
+      std::vector<double> positiveEdge(h.size());
+      for (std::size_t s = 0; s < h.size(); ++s)
+      {
+        positiveEdge[s] = h[s] > 0.0 ? h[s] : std::numeric_limits<double>::infinity();
+      }
       // The curves' samples, on two threads (Parallel.h), each part with its largest distance.
       std::array<double, 2> partDistance = { 0.0, 0.0 };
       // The distance from p to the mesh's boundary, and the boundary's edge nearest p (-1 when
@@ -2053,15 +2069,92 @@ MesherResult triangulateOnce(const RawPolylines& input,
           // fall between them.
           const int m = static_cast<int>(std::min<double>(
             kDeviationSamples, std::max(5.0, std::ceil(length / (0.25 * finest)))));
-          for (int j = 0; j < m; ++j)
+          // Sample j's distance to the mesh, and its nearest boundary edge (kept ahead of its
+          // turn when met on the way).
+          const auto evaluate = [&](int j)
           {
-            const double f = static_cast<double>(j) / m;
-            const double d = toMesh(p + f * (r - p), part, segment);
-            partDistance[which] = std::max(partDistance[which], d);
+            for (const Part::Sample& s : part.ahead)
+            {
+              if (s.j == j)
+              {
+                return s;
+              }
+            }
+            Part::Sample s{ j, 0.0, -1 };
+            s.d = toMesh(p + (static_cast<double>(j) / m) * (r - p), part, s.segment);
+            return s;
+          };
+          const auto take = [&](const Part::Sample& s)
+          {
+            const double f = static_cast<double>(s.j) / m;
+            partDistance[which] = std::max(partDistance[which], s.d);
             if (length > 0.0)
             {
-              relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, d, segment, part);
+              relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, s.d, s.segment, part);
             }
+          };
+          // A bound on the distance of the samples between samples u and v, L apart: it is
+          // 1-Lipschitz along the segment, so none exceeds (u.d + v.d + L) / 2; and the
+          // distance to a given boundary edge is convex along it, so none exceeds the larger
+          // of u's and v's distances to u's (or v's) nearest edge. When the bound is at most
+          // the largest deviation found so far and at most the relative bound relativeTo
+          // applies (with the shortest local edge of the boundary edges that may be nearest
+          // those samples: within the bound of them), the samples between change nothing and
+          // are skipped. The stretch doubles after a skip (up to kDeviationJump samples) and
+          // halves after a miss: what every sample in turn gives, with a few of them.
+          const double margin = 1e-12 * (norm(p) + norm(r) + length);
+          const auto skippable = [&](const Part::Sample& u, const Part::Sample& v)
+          {
+            const double span = (v.j - u.j) * (length / m) * (1.0 + 1e-9) + margin;
+            double bound = 0.5 * (u.d + v.d + span);
+            const Vec2 pu = p + (static_cast<double>(u.j) / m) * (r - p);
+            const Vec2 pv = p + (static_cast<double>(v.j) / m) * (r - p);
+            for (const int e : { u.segment, v.segment })
+            {
+              if (e >= 0)
+              {
+                bound = std::min(bound,
+                  std::sqrt(std::max(
+                    pointSegmentDistance2(pu, a[e], b[e]), pointSegmentDistance2(pv, a[e], b[e]))));
+              }
+            }
+            bound = bound * (1.0 + 1e-9) + margin;
+            if (!(bound <= std::max({ maxMeshToModel, maxVertex, partDistance[which] })))
+            {
+              return false;
+            }
+            const Vec2 mid = p + (0.5 * (u.j + v.j) / m) * (r - p);
+            double least = 0.0;
+            return meshCells.smallestValue(mid, bound + 0.5 * span, positiveEdge, least) &&
+              (least == std::numeric_limits<double>::infinity() ||
+                bound <= std::min(part.relative, kDeviationBound) * least);
+          };
+          part.ahead.clear();
+          Part::Sample last = evaluate(0);
+          take(last);
+          int jump = kDeviationJump;
+          while (last.j + 1 < m)
+          {
+            const int k = std::min(jump, m - 1 - last.j);
+            const Part::Sample next = evaluate(last.j + k);
+            if (k > 1 && !skippable(last, next))
+            {
+              if (std::none_of(part.ahead.begin(),
+                    part.ahead.end(),
+                    [&](const Part::Sample& s) { return s.j == next.j; }))
+              {
+                part.ahead.push_back(next);
+              }
+              jump = k / 2;
+              continue;
+            }
+            take(next);
+            last = next;
+            part.ahead.erase(std::remove_if(part.ahead.begin(),
+                               part.ahead.end(),
+                               [&](const Part::Sample& s) { return s.j <= last.j; }),
+              part.ahead.end());
+            jump = std::min(2 * k, kDeviationJump);
           }
         }
       };

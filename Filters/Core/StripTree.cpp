@@ -775,6 +775,41 @@ bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
   return true;
 }
 
+bool SegmentGrid::smallestValue(Vec2 p,
+  double r,
+  const std::vector<double>& value,
+  double& smallest) const
+{
+  const double reach = r * (1.0 + 1e-9);
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+    !std::isfinite(p.y) || value.size() != this->A.size())
+  {
+    return false;
+  }
+  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
+  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
+  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
+  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  double least = std::numeric_limits<double>::infinity();
+  if (i0 <= i1 && j0 <= j1)
+  {
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
+    {
+      return false;
+    }
+    for (int j = j0; j <= j1; ++j)
+    {
+      const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+      for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+      {
+        least = std::min(least, value[this->Items[k]]);
+      }
+    }
+  }
+  smallest = least;
+  return true;
+}
+
 // With ties: a tie settles the distance (not the segment).
 bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const
 {

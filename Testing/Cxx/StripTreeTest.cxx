@@ -691,6 +691,61 @@ TEST(StripTreeTest, segment_grid_answers_as_the_tree)
   }
 }
 
+TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reach)
+{
+  // smallestValue(p, r) is at most the value of every segment within r of p, and is the value
+  // of a segment near the box (within r + a cell diagonal of p in each direction), so that a
+  // caller may bound what the segments near p hold: random values, points, radii.
+  const Segments s = readSegments("lake_superior.vtp");
+  const double size = std::max(s.box.width(), s.box.height());
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> value(s.a.size());
+  for (double& v : value)
+  {
+    v = u(rng) < 0.1 ? std::numeric_limits<double>::infinity() : u(rng);
+  }
+  for (const double cell : { size / 64.0, size / 512.0 })
+  {
+    SCOPED_TRACE(cell);
+    const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
+    std::size_t told = 0, queries = 0, wrong = 0;
+    for (const Vec2 p : randomPoints(s.box, 0.05, 1000, rng))
+    {
+      for (const double f : { 0.0, 0.3, 1.0, 2.5, 10.0 })
+      {
+        const double r = f * cell;
+        double least = -1.0;
+        ++queries;
+        if (!grid.smallestValue(p, r, value, least))
+        {
+          wrong += least != -1.0; // untouched
+          continue;
+        }
+        ++told;
+        const double far = r + 2.0 * std::sqrt(2.0) * cell;
+        bool attained = least == std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < s.a.size(); ++i)
+        {
+          const double d = std::sqrt(strata::pointSegmentDistance2(p, s.a[i], s.b[i]));
+          wrong += d <= r && value[i] < least;
+          attained = attained || (value[i] == least && d <= far);
+        }
+        wrong += !attained;
+      }
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_GT(told, queries / 2); // (a box of more than 64 cells is not told)
+  }
+  const strata::SegmentGrid grid(s.a, s.b, size / 64.0, 1000);
+  double least = -1.0;
+  EXPECT_FALSE(grid.smallestValue({ 0.0, 0.0 }, 100.0 * size, value, least));
+  EXPECT_FALSE(
+    grid.smallestValue({ std::numeric_limits<double>::quiet_NaN(), 0.0 }, 1.0, value, least));
+  EXPECT_FALSE(grid.smallestValue(s.a[0], 1.0, std::vector<double>(1, 0.0), least));
+  EXPECT_EQ(least, -1.0);
+}
+
 TEST(StripTreeTest, segment_grid_answers_as_the_tree_on_degenerate_layouts)
 {
   // Collinear runs, duplicated segments (ties everywhere near them), a zero-length segment, a
