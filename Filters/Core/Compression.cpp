@@ -2218,13 +2218,23 @@ bool Compressor::movedLessThanGridDistance(int g, double moved, StripTreeScratch
     {
       return true;
     }
+    // The distance from the cells when they settle it (the tree's, bit for bit), kept as
+    // gridDistance() keeps it.
+    double d2 = 0.0;
+    const double r = 2.0 * this->CurveCell;
+    if (this->CurveCells->nearestDistance2(this->Grid.points[g], r, d2) && d2 < r * r)
+    {
+      this->Distance[g] = std::sqrt(d2);
+      return moved < this->Distance[g];
+    }
   }
   return moved < this->gridDistance(g, rail);
 }
 
 // The rails' segments in cells half the median longest edge of the sub-mesh wide (every 16th
 // triangle), for movedLessThanGridDistance. Which positions give the width does not change
-// its answers: the cells only spare strip-tree queries whose answer they already know.
+// its answers: the cells only spare strip-tree queries whose answer they already know (and
+// settle the distances within two cells of the curves).
 void Compressor::buildCurveCells()
 {
   const auto& x = this->Sys->positions();
@@ -2244,6 +2254,7 @@ void Compressor::buildCurveCells()
   }
   const std::size_t most = std::min<std::size_t>(std::size_t(1) << 21, 2 * this->Tri.size() + 4096);
   this->CurveCells = std::make_unique<SegmentGrid>(this->Rails.segmentGrid(cell, most));
+  this->CurveCell = cell;
 }
 
 // Region of the face (a, b, c) at the given positions: the common region of its corners off

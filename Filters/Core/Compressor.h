@@ -292,6 +292,7 @@ private:
   BoundaryRails Rails;
   StripTreeScratch RailScratch;
   std::unique_ptr<SegmentGrid> CurveCells; // the rails' segments (for vertexRegion), when asked
+  double CurveCell = 0.0;                  // ... the cell size asked for
   DistanceField::Scratch FieldScratch;
   Guard TheGuard;
 

@@ -2932,6 +2932,10 @@ RefinementResult Refiner::run(const std::vector<int>* bad)
     const Vec2 m = 0.5 * (p + q);
     const double dc = norm(cc - m), doff = this->OffDistance * l;
     const Vec2 w = dc > doff ? m + (doff / dc) * (cc - m) : cc;
+    if (!std::isfinite(w.x) || !std::isfinite(w.y))
+    {
+      continue; // no area by rounding (a curve point within rounding of an edge): left bad
+    }
     int ct = -1, ck = -1;
     const int s = this->locate(t, w, ct, ck);
     if (s < 0)
@@ -4689,7 +4693,8 @@ RefinementResult refinePass(RegionMesh& mesh,
 RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
-  const ProgressReporter& progress)
+  const ProgressReporter& progress,
+  const KnownCentroidRegions* known)
 {
   validate(params);
   const std::size_t nt = mesh.triangles.size(), np = mesh.points.size();
@@ -4715,6 +4720,25 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   // The curve recovery's answers, from each pass for the next (and for the last pass made
   // again): most of the mesh is unchanged between them.
   RecoveryMemo memos[2];
+  // The caller's answers, for the first pass (as a memo without probes).
+  RecoveryMemo given;
+  if (known && known->region.size() == known->triangles.size())
+  {
+    given.triangles = known->triangles;
+    given.points = known->points;
+    given.near = known->region;
+    for (const auto& tri : given.triangles)
+    {
+      for (const int v : tri)
+      {
+        if (v < 0 || static_cast<std::size_t>(v) >= given.points.size())
+        {
+          throw ParameterError("refineDelaunay: a known triangle refers to point " +
+            std::to_string(v) + ", not in [0, " + std::to_string(given.points.size()) + ")");
+        }
+      }
+    }
+  }
   LargeVector<std::array<int, 3>> neighbours; // the mesh's, from each pass for the next
   const bool amongRegions = std::any_of(params.wedgeCorners.begin(),
     params.wedgeCorners.end(),
@@ -4739,13 +4763,18 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       before->level = mesh.level;
       part.report(0.0, stage);
     }
-    const RecoveryMemo* memo = pass > 0 ? &memos[(pass - 1) % 2] : nullptr;
+    const RecoveryMemo* memo =
+      pass > 0 ? &memos[(pass - 1) % 2] : (given.triangles.empty() ? nullptr : &given);
     RecoveryMemo* keep = !last || before ? &memos[pass % 2] : nullptr;
     RefinementResult r =
       refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &neighbours, part);
-    if (memo)
+    if (pass > 0)
     {
       memos[(pass - 1) % 2] = RecoveryMemo(); // (its memory)
+    }
+    else
+    {
+      given = RecoveryMemo();
     }
     if (before && r.minimumAngle < params.minimumAngle - 1e-9)
     {

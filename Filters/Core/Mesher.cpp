@@ -737,6 +737,7 @@ void refineCompressed(CompressionResult& compressed,
         { return w.find("could not be placed on a curve") != std::string::npos; }),
       compressed.warnings.end());
   }
+  KnownCentroidRegions known;
   if (params.curveRecovery)
   {
     // A vertex off the curves that keeps a triangle from taking the region at its centroid
@@ -745,6 +746,10 @@ void refineCompressed(CompressionResult& compressed,
     // lies in another region; the centroids are asked in blocks, between progress reports.)
     const std::size_t nt = compressed.triangles.size();
     std::vector<char> wrong(nt);
+    // (The answers, for the refinement's first recovery: the mesh before the snaps below.)
+    known.triangles = compressed.triangles;
+    known.points = compressed.points;
+    known.region.resize(nt);
     std::vector<Vec2> centroids;
     std::vector<double> reach;
     std::vector<int> near;
@@ -769,6 +774,7 @@ void refineCompressed(CompressionResult& compressed,
       {
         wrong[t] =
           near[t - begin] != kNoCurveNear && near[t - begin] != compressed.triangleRegion[t];
+        known.region[t] = near[t - begin];
       }
     }
     snapStrayBoundaryVertices(
@@ -1080,7 +1086,7 @@ void refineCompressed(CompressionResult& compressed,
     std::move(compressed.triangles),
     std::move(compressed.triangleRegion),
     std::move(compressed.triangleLevel) };
-  const RefinementResult rr = refineDelaunay(rm, splitter, rp, progress);
+  const RefinementResult rr = refineDelaunay(rm, splitter, rp, progress, &known);
   compressed.points = std::move(rm.points);
   compressed.triangles = std::move(rm.triangles);
   compressed.triangleRegion = std::move(rm.region);

@@ -337,6 +337,132 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
   }
 }
 
+namespace
+{
+// The curve recovery of CurveRecoveryBringsBackALayerTheMeshLost's bands (curves y = 0 and
+// y = 3), with centroid answers asked all at once (regionsNear, counted in *asked) and curve
+// points found strictly inside a triangle by `margin` of its longest edge (0: by rounding).
+RefinementParams bandRecovery(double margin, std::size_t* asked)
+{
+  RefinementParams p;
+  p.regionAt = [](Vec2 q) { return q.y < 0.0 ? 0 : (q.y < 3.0 ? 1 : 2); };
+  p.curveDistance = [](Vec2 q, double) { return std::min(std::fabs(q.y), std::fabs(q.y - 3.0)); };
+  p.curvePoint = [margin](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+  {
+    const Vec2 g = (1.0 / 3.0) * (a + b + c);
+    const double longest =
+      std::sqrt(std::max({ strata::norm2(b - a), strata::norm2(c - b), strata::norm2(a - c) }));
+    for (double line : { 0.0, 3.0 })
+    {
+      at = { g.x, line };
+      bool inside = true;
+      for (const auto& [u, v] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
+      {
+        inside = inside && strata::orient2d(u, v, at) > margin * longest * strata::norm(v - u);
+      }
+      if (inside)
+      {
+        return true;
+      }
+    }
+    return false;
+  };
+  const auto regionAt = p.regionAt;
+  const auto curveDistance = p.curveDistance;
+  p.regionsNear = [=](const Vec2* x, const double* within, std::size_t n, int* region)
+  {
+    *asked += n;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      region[i] =
+        curveDistance(x[i], within[i]) < within[i] ? regionAt(x[i]) : strata::kNoCurveNear;
+    }
+  };
+  return p;
+}
+
+RegionMesh lostBand()
+{
+  RegionMesh m = bands({ -10.0, 3.0, 13.0 }, 100.0, 10.0);
+  for (int& r : m.region)
+  {
+    r = r == 0 ? 0 : 2;
+  }
+  return m;
+}
+} // namespace
+
+// The centroids' answers a caller already has (KnownCentroidRegions, as the mesher has them)
+// are taken for the triangles whose corners lie where they were asked about: the same mesh as
+// asking again, with fewer questions; answers about another mesh (every point moved, every
+// answer wrong) are not taken; a known triangle with a point id out of range is rejected.
+TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAskedAbout)
+{
+  const RegionMesh m = lostBand();
+  std::size_t asked = 0;
+  const RefinementParams p = bandRecovery(0.1, &asked);
+  strata::KnownCentroidRegions known{ m.triangles, m.points, {} };
+  for (const auto& tri : m.triangles)
+  {
+    const Vec2 a = m.points[tri[0]], b = m.points[tri[1]], c = m.points[tri[2]];
+    const Vec2 g = (1.0 / 3.0) * (a + b + c);
+    const double reach =
+      std::sqrt(std::max({ strata::norm2(b - a), strata::norm2(c - b), strata::norm2(a - c) }));
+    int answer = 0;
+    p.regionsNear(&g, &reach, 1, &answer);
+    known.region.push_back(answer);
+  }
+  RegionMesh plain = m, given = m, other = m;
+  asked = 0;
+  const RefinementResult r = strata::refineDelaunay(plain, middle, p);
+  const std::size_t askedPlain = asked;
+  asked = 0;
+  const RefinementResult rg =
+    strata::refineDelaunay(given, middle, p, strata::ProgressReporter(), &known);
+  EXPECT_GT(r.curveVertices, 0u);
+  EXPECT_LT(asked, askedPlain);
+  EXPECT_EQ(rg.curveVertices, r.curveVertices);
+  EXPECT_EQ(given.triangles, plain.triangles);
+  EXPECT_EQ(given.points, plain.points);
+  EXPECT_EQ(given.region, plain.region);
+  strata::KnownCentroidRegions moved = known;
+  for (Vec2& x : moved.points)
+  {
+    x.x += 0.25;
+  }
+  std::fill(moved.region.begin(), moved.region.end(), 7);
+  asked = 0;
+  strata::refineDelaunay(other, middle, p, strata::ProgressReporter(), &moved);
+  EXPECT_EQ(asked, askedPlain);
+  EXPECT_EQ(other.triangles, plain.triangles);
+  EXPECT_EQ(other.points, plain.points);
+  EXPECT_EQ(other.region, plain.region);
+  moved.triangles[0][1] = static_cast<int>(moved.points.size());
+  RegionMesh bad = m;
+  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &moved),
+    strata::ParameterError);
+}
+
+// Curve points inside their triangle by rounding only (as the contract allows) leave slivers
+// whose area rounds to zero: they stay as they are (no circumcentre to insert), never a
+// non-finite point in the mesh; the mesh stays valid and the same from run to run.
+TEST(DelaunayRefinementTest, SliversOfNoAreaByRoundingNeverBringANonFinitePoint)
+{
+  std::size_t asked = 0;
+  const RefinementParams p = bandRecovery(0.0, &asked);
+  RegionMesh m = lostBand(), again = lostBand();
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  strata::refineDelaunay(again, middle, p);
+  EXPECT_GT(r.curveVertices, 0u);
+  for (const Vec2& x : m.points)
+  {
+    ASSERT_TRUE(std::isfinite(x.x) && std::isfinite(x.y)) << x.x << " " << x.y;
+  }
+  expectValid(m);
+  EXPECT_EQ(again.points, m.points);
+  EXPECT_EQ(again.triangles, m.triangles);
+}
+
 // Smoothing after the refinement (here no vertex can be inserted: the floor is longer than
 // every edge). A 10 x 10 square cut by the curve y = 5 (region 0 below, 1 above), all its
 // triangles around the vertex v = (9, 5) on that curve: with a curveSlide along y = 5, v
