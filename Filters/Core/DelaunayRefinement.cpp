@@ -4486,42 +4486,35 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   return total;
 }
 
-RefinementResult refinePass(RegionMesh& mesh,
+// Step 4 of a pass (see the top of the file): a cautious run on a copy of the prepared mesh,
+// then up to kBoldRuns bold ones, each on a copy, bold in the zones of the triangles the runs
+// before left below the best angle; kept: the run with the larger smallest angle, or as large
+// with fewer triangles below minimumAngle.
+struct KeptRun
+{
+  RegionMesh mesh;                            // the mesh it made
+  RefinementResult result;                    // its counts
+  LargeVector<std::array<int, 3>> neighbours; // its mesh's neighbours
+  std::size_t budget = 0;                     // the runs' budget of insertions
+};
+
+KeptRun keptRun(const RegionMesh& mesh,
+  const Refiner& base,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
-  bool last,
-  bool everyTip,
-  const RecoveryMemo* memo,
-  RecoveryMemo* keep,
-  LargeVector<std::array<int, 3>>* neighbours,
   const ProgressReporter& progress)
 {
   const std::vector<Zone> none;
-  Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
-  base.prepare(neighbours); // mesh is constrained Delaunay from here on
-  const std::size_t recovered = base.recoverCurves(memo, keep);
-  const std::size_t followed = base.followCurves();
-  if (everyTip)
-  {
-    base.cutEveryTip();
-  }
-  const std::size_t dissolved = base.dissolveCorners();
-  std::size_t sized = base.splitLongEdges();
-  // 7: the kept corners, in the last pass before its runs (which mend the triangles beside).
-  std::vector<double> keptRadius;
-  std::vector<std::vector<Vec2>> keptOutline;
-  const std::size_t extendedWedges = last ? base.extendWedges() : 0;
-  const std::size_t keptCorners = last ? base.keepCorners(keptRadius, keptOutline) : 0;
-  const std::size_t flips = base.flips();
-  RegionMesh best = mesh;
+  KeptRun kept{ mesh, {}, {}, 0 };
+  RegionMesh& best = kept.mesh;
   Refiner cautious(best, splitter, params, 1.0, none, progress.sub(0.1, 0.3));
   cautious.adopt(base);
   const std::vector<int> firstBad =
     params.minimumAngle > 0.0 ? cautious.badTriangles() : std::vector<int>();
-  RefinementResult bestResult = cautious.run(&firstBad);
+  RefinementResult& bestResult = kept.result;
+  bestResult = cautious.run(&firstBad);
   double bestAngle = cautious.angleAfterRun();
   std::vector<Zone> zones;
-  LargeVector<std::array<int, 3>> boldNeighbours; // of the bold run kept, if one is
   for (int round = 0;
        round < kBoldRuns && params.minimumAngle > 0.0 && bestAngle < params.minimumAngle;
        ++round)
@@ -4551,7 +4544,7 @@ RefinementResult refinePass(RegionMesh& mesh,
       }
       best = std::move(bold);
       bestResult = result;
-      boldNeighbours = run.takeNeighbours();
+      kept.neighbours = run.takeNeighbours();
       if (more && zones.size() == zonesBefore)
       {
         break;
@@ -4561,6 +4554,44 @@ RefinementResult refinePass(RegionMesh& mesh,
     }
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
+  kept.budget = cautious.budget();
+  if (kept.neighbours.empty())
+  {
+    kept.neighbours = cautious.takeNeighbours(); // (the cautious run was kept)
+  }
+  return kept;
+}
+
+RefinementResult refinePass(RegionMesh& mesh,
+  const BoundarySplitter& splitter,
+  const RefinementParams& params,
+  bool last,
+  bool everyTip,
+  const RecoveryMemo* memo,
+  RecoveryMemo* keep,
+  LargeVector<std::array<int, 3>>* neighbours,
+  const ProgressReporter& progress)
+{
+  const std::vector<Zone> none;
+  Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
+  base.prepare(neighbours); // mesh is constrained Delaunay from here on
+  const std::size_t recovered = base.recoverCurves(memo, keep);
+  const std::size_t followed = base.followCurves();
+  if (everyTip)
+  {
+    base.cutEveryTip();
+  }
+  const std::size_t dissolved = base.dissolveCorners();
+  std::size_t sized = base.splitLongEdges();
+  // 7: the kept corners, in the last pass before its runs (which mend the triangles beside).
+  std::vector<double> keptRadius;
+  std::vector<std::vector<Vec2>> keptOutline;
+  const std::size_t extendedWedges = last ? base.extendWedges() : 0;
+  const std::size_t keptCorners = last ? base.keepCorners(keptRadius, keptOutline) : 0;
+  const std::size_t flips = base.flips();
+  KeptRun kept = keptRun(mesh, base, splitter, params, progress);
+  RegionMesh& best = kept.mesh;
+  RefinementResult& bestResult = kept.result;
   // 7': the short edges beside the extended wedges' sides, collapsed before the smoothing
   // moves them apart.
   const std::size_t cutCollapses = last && !base.extendedSides().empty()
@@ -4568,9 +4599,7 @@ RefinementResult refinePass(RegionMesh& mesh,
     : 0;
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
   // (The kept run's neighbours, unless the collapses changed the mesh since.)
-  LargeVector<std::array<int, 3>> keptNeighbours =
-    boldNeighbours.empty() ? cautious.takeNeighbours() : std::move(boldNeighbours);
-  polish.prepare(cutCollapses == 0 ? &keptNeighbours : nullptr);
+  polish.prepare(cutCollapses == 0 ? &kept.neighbours : nullptr);
   polish.keepWedges(base);
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
@@ -4583,7 +4612,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   const auto budgetLeft = [&]()
   {
     const std::size_t used = bestResult.interiorVertices + bestResult.boundaryVertices;
-    return cautious.budget() - std::min(used, cautious.budget());
+    return kept.budget - std::min(used, kept.budget);
   };
   const auto addInsertions = [&](const RefinementResult& r)
   {
