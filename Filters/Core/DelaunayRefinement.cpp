@@ -259,7 +259,8 @@
 // triangles, which are smaller than the compressed ones, so layers that ran through the edges
 // of big triangles are found. Most triangles are left as they were by the first pass, and 2b's
 // queries depend on a triangle's corners only: the second recovery takes the first's answers
-// for those (RecoveryMemo), and asks about the others.
+// for those (RecoveryMemo), and asks about the others; the first takes the caller's answers
+// about the centroids (KnownCentroidRegions) the same way.
 // Outside the smoothing and 6 no step moves or removes an existing vertex, and no step inverts
 // a triangle; outside the curve recovery, 2c and 7 no triangle changes region, and the
 // regions' areas change only where a boundary edge is split onto its curve (3, 2b', 7) or a
