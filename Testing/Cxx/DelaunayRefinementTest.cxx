@@ -258,27 +258,16 @@ TEST(DelaunayRefinementTest, RegionEdgesLongerThanTheMaximumEdgeLengthAreSplit)
   EXPECT_EQ(same.triangles.size(), 20u);
 }
 
-// Curve recovery: the model has a layer (region 1) between y = 0 and y = 3 that the mesh lost
-// (it tags everything below y = 3 region 0, as a compression that put its boundary vertices
-// on the layer's upper curve would). Points of the curve y = 0 inserted where it crosses
-// triangles bring the layer back: region 1 gets its area, region 0 loses it, no triangle
-// inverts, and every vertex on a region boundary lies on a curve (y = 0, y = 3 or the border).
-TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
+namespace
 {
-  RegionMesh m = bands({ -10.0, 3.0, 13.0 }, 100.0, 10.0);
-  for (int& r : m.region)
-  {
-    r = r == 0 ? 0 : 2;
-  }
+// The curve recovery of the tests below, on lostBand()'s bands (curves y = 0 and y = 3): curve
+// points found strictly inside a triangle by `margin` of its longest edge (0: by rounding);
+// with `asked`, the centroids' answers asked all at once too (regionsNear, counted there).
+RefinementParams bandRecovery(double margin, std::size_t* asked)
+{
   RefinementParams p;
-  const auto onLine = [](double v, double line) { return std::fabs(v - line) <= 1e-9; };
-  p.onCurve = [&](Vec2 q)
-  {
-    return onLine(q.y, 0.0) || onLine(q.y, 3.0) || onLine(q.y, -10.0) || onLine(q.y, 13.0) ||
-      onLine(q.x, 0.0) || onLine(q.x, 100.0);
-  };
   p.regionAt = [](Vec2 q) { return q.y < 0.0 ? 0 : (q.y < 3.0 ? 1 : 2); };
-  p.curvePoint = [](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
+  p.curvePoint = [margin](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
   {
     const Vec2 g = (1.0 / 3.0) * (a + b + c);
     const double longest =
@@ -289,7 +278,7 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
       bool inside = true;
       for (const auto& [u, v] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
       {
-        inside = inside && strata::orient2d(u, v, at) > 0.1 * longest * strata::norm(v - u);
+        inside = inside && strata::orient2d(u, v, at) > margin * longest * strata::norm(v - u);
       }
       if (inside)
       {
@@ -297,6 +286,51 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
       }
     }
     return false;
+  };
+  if (!asked)
+  {
+    return p;
+  }
+  p.curveDistance = [](Vec2 q, double) { return std::min(std::fabs(q.y), std::fabs(q.y - 3.0)); };
+  const auto regionAt = p.regionAt;
+  const auto curveDistance = p.curveDistance;
+  p.regionsNear = [=](const Vec2* x, const double* within, std::size_t n, int* region)
+  {
+    *asked += n;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      region[i] =
+        curveDistance(x[i], within[i]) < within[i] ? regionAt(x[i]) : strata::kNoCurveNear;
+    }
+  };
+  return p;
+}
+
+RegionMesh lostBand()
+{
+  RegionMesh m = bands({ -10.0, 3.0, 13.0 }, 100.0, 10.0);
+  for (int& r : m.region)
+  {
+    r = r == 0 ? 0 : 2;
+  }
+  return m;
+}
+} // namespace
+
+// Curve recovery: the model has a layer (region 1) between y = 0 and y = 3 that the mesh lost
+// (it tags everything below y = 3 region 0, as a compression that put its boundary vertices
+// on the layer's upper curve would). Points of the curve y = 0 inserted where it crosses
+// triangles bring the layer back: region 1 gets its area, region 0 loses it, no triangle
+// inverts, and every vertex on a region boundary lies on a curve (y = 0, y = 3 or the border).
+TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
+{
+  RegionMesh m = lostBand();
+  RefinementParams p = bandRecovery(0.1, nullptr);
+  const auto onLine = [](double v, double line) { return std::fabs(v - line) <= 1e-9; };
+  p.onCurve = [&](Vec2 q)
+  {
+    return onLine(q.y, 0.0) || onLine(q.y, 3.0) || onLine(q.y, -10.0) || onLine(q.y, 13.0) ||
+      onLine(q.x, 0.0) || onLine(q.x, 100.0);
   };
   // The probes asked all at once (curvePoints, as the mesher does on two threads) give the
   // same mesh as one at a time.
@@ -336,61 +370,6 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
     }
   }
 }
-
-namespace
-{
-// The curve recovery of CurveRecoveryBringsBackALayerTheMeshLost's bands (curves y = 0 and
-// y = 3), with centroid answers asked all at once (regionsNear, counted in *asked) and curve
-// points found strictly inside a triangle by `margin` of its longest edge (0: by rounding).
-RefinementParams bandRecovery(double margin, std::size_t* asked)
-{
-  RefinementParams p;
-  p.regionAt = [](Vec2 q) { return q.y < 0.0 ? 0 : (q.y < 3.0 ? 1 : 2); };
-  p.curveDistance = [](Vec2 q, double) { return std::min(std::fabs(q.y), std::fabs(q.y - 3.0)); };
-  p.curvePoint = [margin](Vec2 a, Vec2 b, Vec2 c, Vec2& at)
-  {
-    const Vec2 g = (1.0 / 3.0) * (a + b + c);
-    const double longest =
-      std::sqrt(std::max({ strata::norm2(b - a), strata::norm2(c - b), strata::norm2(a - c) }));
-    for (double line : { 0.0, 3.0 })
-    {
-      at = { g.x, line };
-      bool inside = true;
-      for (const auto& [u, v] : { std::pair<Vec2, Vec2>(a, b), { b, c }, { c, a } })
-      {
-        inside = inside && strata::orient2d(u, v, at) > margin * longest * strata::norm(v - u);
-      }
-      if (inside)
-      {
-        return true;
-      }
-    }
-    return false;
-  };
-  const auto regionAt = p.regionAt;
-  const auto curveDistance = p.curveDistance;
-  p.regionsNear = [=](const Vec2* x, const double* within, std::size_t n, int* region)
-  {
-    *asked += n;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      region[i] =
-        curveDistance(x[i], within[i]) < within[i] ? regionAt(x[i]) : strata::kNoCurveNear;
-    }
-  };
-  return p;
-}
-
-RegionMesh lostBand()
-{
-  RegionMesh m = bands({ -10.0, 3.0, 13.0 }, 100.0, 10.0);
-  for (int& r : m.region)
-  {
-    r = r == 0 ? 0 : 2;
-  }
-  return m;
-}
-} // namespace
 
 // The centroids' answers a caller already has (KnownCentroidRegions, as the mesher has them)
 // are taken for the triangles whose corners lie where they were asked about: the same mesh as
