@@ -2105,8 +2105,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
           // of u's and v's distances to u's (or v's) nearest edge. When the bound is at most
           // the largest deviation found so far and at most the relative bound relativeTo
           // applies (with the shortest local edge of the boundary edges that may be nearest
-          // those samples: within the bound of them), the samples between change nothing and
-          // are skipped. The stretch doubles after a skip (up to kDeviationJump samples) and
+          // those samples: within the bound of them, or of the points relativeTo is given,
+          // 1e-4 of the segment beside them), the samples between change nothing and are
+          // skipped. The stretch doubles after a skip (up to kDeviationJump samples) and
           // halves after a miss: what every sample in turn gives, with a few of them.
           const double margin = 1e-12 * (norm(p) + norm(r) + length);
           const auto skippable = [&](const Part::Sample& u, const Part::Sample& v)
@@ -2131,7 +2132,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
             }
             const Vec2 mid = p + (0.5 * (u.j + v.j) / m) * (r - p);
             double least = 0.0;
-            return meshCells.smallestValue(mid, bound + 0.5 * span, positiveEdge, least) &&
+            return meshCells.smallestValue(
+                     mid, bound + 0.5 * span + 1e-4 * length, positiveEdge, least) &&
               (least == std::numeric_limits<double>::infinity() ||
                 bound <= std::min(part.relative, kDeviationBound) * least);
           };
