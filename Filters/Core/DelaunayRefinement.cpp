@@ -4752,8 +4752,13 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   RecoveryMemo memos[2];
   // The caller's answers, for the first pass (as a memo without probes).
   RecoveryMemo given;
-  if (known && known->region.size() == known->triangles.size())
+  if (known)
   {
+    if (known->region.size() != known->triangles.size())
+    {
+      throw ParameterError("refineDelaunay: " + std::to_string(known->triangles.size()) +
+        " known triangles but " + std::to_string(known->region.size()) + " known answers");
+    }
     given.triangles = known->triangles;
     given.points = known->points;
     given.near = known->region;

@@ -374,7 +374,8 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
 // The centroids' answers a caller already has (KnownCentroidRegions, as the mesher has them)
 // are taken for the triangles whose corners lie where they were asked about: the same mesh as
 // asking again, with fewer questions; answers about another mesh (every point moved, every
-// answer wrong) are not taken; a known triangle with a point id out of range is rejected.
+// answer wrong) are not taken; a known triangle with a point id out of range, or an answer
+// missing, is rejected.
 TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAskedAbout)
 {
   const RegionMesh m = lostBand();
@@ -419,6 +420,9 @@ TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAske
   moved.triangles[0][1] = static_cast<int>(moved.points.size());
   RegionMesh bad = m;
   EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &moved),
+    strata::ParameterError);
+  known.region.pop_back();
+  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &known),
     strata::ParameterError);
 }
 
