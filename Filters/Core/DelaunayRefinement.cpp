@@ -4724,7 +4724,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
   const ProgressReporter& progress,
-  const KnownCentroidRegions* known)
+  KnownCentroidRegions* known)
 {
   validate(params);
   const std::size_t nt = mesh.triangles.size(), np = mesh.points.size();
@@ -4759,9 +4759,9 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       throw ParameterError("refineDelaunay: " + std::to_string(known->triangles.size()) +
         " known triangles but " + std::to_string(known->region.size()) + " known answers");
     }
-    given.triangles = known->triangles;
-    given.points = known->points;
-    given.near = known->region;
+    given.triangles = std::move(known->triangles);
+    given.points = std::move(known->points);
+    given.near = std::move(known->region);
     for (const auto& tri : given.triangles)
     {
       for (const int v : tri)

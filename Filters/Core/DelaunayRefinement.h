@@ -253,13 +253,14 @@ struct KnownCentroidRegions
 /// (sizes, point ids, an edge in three triangles), Aborted when the progress callback asks to stop.
 ///
 /// `known`, optional: the answers of params.regionsNear the caller already has (see
-/// KnownCentroidRegions), taken by the first curve recovery. Throws ParameterError when its
-/// sizes differ or a known triangle refers to a point it does not have.
+/// KnownCentroidRegions), taken by the first curve recovery: its arrays are moved from (no
+/// copy of them at the run's peak). Throws ParameterError when its sizes differ or a known
+/// triangle refers to a point it does not have.
 RefinementResult refineDelaunay(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params = {},
   const ProgressReporter& progress = ProgressReporter(),
-  const KnownCentroidRegions* known = nullptr);
+  KnownCentroidRegions* known = nullptr);
 
 /// Step 6 of refineDelaunay() on its own (see DelaunayRefinement.cpp): the shortest edge uv of
 /// a region triangle below minimumAngle, when shorter than half minimumEdgeLength (too short

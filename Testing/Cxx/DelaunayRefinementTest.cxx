@@ -374,14 +374,14 @@ TEST(DelaunayRefinementTest, CurveRecoveryBringsBackALayerTheMeshLost)
 // The centroids' answers a caller already has (KnownCentroidRegions, as the mesher has them)
 // are taken for the triangles whose corners lie where they were asked about: the same mesh as
 // asking again, with fewer questions; answers about another mesh (every point moved, every
-// answer wrong) are not taken; a known triangle with a point id out of range, or an answer
-// missing, is rejected.
+// answer wrong) are not taken; the arrays are taken, not copied; a known triangle with a point
+// id out of range, or an answer missing, is rejected.
 TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAskedAbout)
 {
   const RegionMesh m = lostBand();
   std::size_t asked = 0;
   const RefinementParams p = bandRecovery(0.1, &asked);
-  strata::KnownCentroidRegions known{ m.triangles, m.points, {} };
+  strata::KnownCentroidRegions answers{ m.triangles, m.points, {} };
   for (const auto& tri : m.triangles)
   {
     const Vec2 a = m.points[tri[0]], b = m.points[tri[1]], c = m.points[tri[2]];
@@ -390,13 +390,14 @@ TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAske
       std::sqrt(std::max({ strata::norm2(b - a), strata::norm2(c - b), strata::norm2(a - c) }));
     int answer = 0;
     p.regionsNear(&g, &reach, 1, &answer);
-    known.region.push_back(answer);
+    answers.region.push_back(answer);
   }
   RegionMesh plain = m, given = m, other = m;
   asked = 0;
   const RefinementResult r = strata::refineDelaunay(plain, middle, p);
   const std::size_t askedPlain = asked;
   asked = 0;
+  strata::KnownCentroidRegions known = answers;
   const RefinementResult rg =
     strata::refineDelaunay(given, middle, p, strata::ProgressReporter(), &known);
   EXPECT_GT(r.curveVertices, 0u);
@@ -405,7 +406,8 @@ TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAske
   EXPECT_EQ(given.triangles, plain.triangles);
   EXPECT_EQ(given.points, plain.points);
   EXPECT_EQ(given.region, plain.region);
-  strata::KnownCentroidRegions moved = known;
+  EXPECT_TRUE(known.triangles.empty() && known.points.empty()) << "taken, not copied";
+  strata::KnownCentroidRegions moved = answers;
   for (Vec2& x : moved.points)
   {
     x.x += 0.25;
@@ -417,12 +419,13 @@ TEST(DelaunayRefinementTest, KnownCentroidAnswersAreTakenOnlyForTheTrianglesAske
   EXPECT_EQ(other.triangles, plain.triangles);
   EXPECT_EQ(other.points, plain.points);
   EXPECT_EQ(other.region, plain.region);
-  moved.triangles[0][1] = static_cast<int>(moved.points.size());
+  strata::KnownCentroidRegions outOfRange = answers, missing = answers;
+  outOfRange.triangles[0][1] = static_cast<int>(outOfRange.points.size());
+  missing.region.pop_back();
   RegionMesh bad = m;
-  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &moved),
+  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &outOfRange),
     strata::ParameterError);
-  known.region.pop_back();
-  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &known),
+  EXPECT_THROW(strata::refineDelaunay(bad, middle, p, strata::ProgressReporter(), &missing),
     strata::ParameterError);
 }
 
