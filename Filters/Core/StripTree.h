@@ -99,8 +99,8 @@ public:
   bool nearestDistance2(Vec2 p, double r, double& distance2) const;
   /// The smallest value[s] over the segments s listed in the cells that the square of half
   /// side r around p overlaps (a superset of the segments within r of p; +infinity for none):
-  /// true, or false (smallest untouched) for a box of more than 64 cells or a NaN or infinite
-  /// p or r. `value` has one entry per segment.
+  /// true, or false (smallest untouched) for a box of more than 64 cells, a NaN or infinite
+  /// p or r, or a `value` list without one entry per segment.
   bool smallestValue(Vec2 p, double r, const std::vector<double>& value, double& smallest) const;
 
 private:
