@@ -584,6 +584,14 @@ public:
   /// Disks around the region triangles whose smallest angle is below `angle` degrees (radius:
   /// twice the longest edge), appended to `zones`.
   void zonesBelow(double angle, std::vector<Zone>& zones) const;
+  /// The disk around triangle t's centroid of radius twice its longest edge.
+  Zone zoneAround(int t) const
+  {
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    return { (1.0 / 3.0) * (a + b + c),
+      4.0 * std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) };
+  }
   /// Step 7: the kept corners (RefinementParams::keptCorners) meshed to their apex, each
   /// with the flips of 2. Sets `radii` and `outlines` (one per corner; 0 and empty when not
   /// kept) and returns the corners kept. Their wedges' triangles are no longer bad for this
@@ -4057,10 +4065,7 @@ void Refiner::zonesBelow(double angle, std::vector<Zone>& zones) const
   }
   for (const int t : list)
   {
-    const auto& tri = this->M.triangles[t];
-    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-    const double longest = std::max({ norm2(b - a), norm2(c - b), norm2(a - c) });
-    zones.push_back({ (1.0 / 3.0) * (a + b + c), 4.0 * longest });
+    zones.push_back(this->zoneAround(t));
   }
 }
 } // namespace
@@ -4672,10 +4677,7 @@ RefinementResult refinePass(RegionMesh& mesh,
     // smallest angle, or as large with fewer triangles below minimumAngle).
     for (const int t : final->mendableBad())
     {
-      const auto& tri = best.triangles[t];
-      const Vec2 a = best.points[tri[0]], b = best.points[tri[1]], c = best.points[tri[2]];
-      near.push_back({ (1.0 / 3.0) * (a + b + c),
-        4.0 * std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) });
+      near.push_back(final->zoneAround(t));
     }
   }
   if (!near.empty())
