@@ -109,7 +109,7 @@ std::uint32_t spreadBits(std::uint32_t v)
 // Sorts the point ids in Z-order over their bounding box (ties by id), so that ids close in
 // the list are close in the plane: the simulation's arrays are then read nearly in order, and
 // the halves of a split step (SpringSystem) meet along a short seam.
-void sortSpatially(std::vector<int>& ids, const LargeVector<Vec2>& points)
+void sortSpatially(LargeVector<int>& ids, const LargeVector<Vec2>& points)
 {
   if (ids.empty())
   {
@@ -123,7 +123,7 @@ void sortSpatially(std::vector<int>& ids, const LargeVector<Vec2>& points)
   }
   const double sx = hi.x > lo.x ? 65535.0 / (hi.x - lo.x) : 0.0;
   const double sy = hi.y > lo.y ? 65535.0 / (hi.y - lo.y) : 0.0;
-  std::vector<std::pair<std::uint32_t, int>> keyed;
+  LargeVector<std::pair<std::uint32_t, int>> keyed;
   keyed.reserve(ids.size());
   for (const int i : ids)
   {
@@ -918,8 +918,8 @@ void Compressor::buildSubMesh()
   const std::size_t np = this->Grid.points.size();
   const std::size_t nt = this->Grid.triangles.size();
   // Breadth-first rings from the candidates and junction vertices.
-  std::vector<int> ring(np, -1);
-  std::vector<std::uint8_t> border(np, 2); // 2 = not known yet
+  LargeVector<int> ring(np, -1);
+  LargeVector<std::uint8_t> border(np, 2); // 2 = not known yet
   const auto isBorder = [&](int g)
   {
     if (border[g] == 2)
@@ -928,7 +928,7 @@ void Compressor::buildSubMesh()
     }
     return border[g] == 1;
   };
-  std::vector<int> frontier;
+  LargeVector<int> frontier;
   std::size_t onBorder = 0;
   for (std::size_t i = 0; i < np; ++i)
   {
@@ -950,10 +950,10 @@ void Compressor::buildSubMesh()
       " vertices chosen to be pushed lie on the border of the grid's domain and stay fixed "
       "(a coarse grid around the model)");
   }
-  std::vector<int> active = frontier;
+  LargeVector<int> active = frontier;
   for (int r = 1; r <= this->Params.activeRings; ++r)
   {
-    std::vector<int> next;
+    LargeVector<int> next;
     for (int g : frontier)
     {
       this->poll(static_cast<std::size_t>(&g - frontier.data()));
@@ -983,7 +983,7 @@ void Compressor::buildSubMesh()
     this->Global.push_back(g);
   }
   this->NumActive = static_cast<int>(this->Global.size());
-  std::vector<int> localTri(nt, -1);
+  LargeVector<int> localTri(nt, -1);
   for (int g : active)
   {
     this->poll(static_cast<std::size_t>(&g - active.data()));
@@ -1592,10 +1592,10 @@ std::size_t Compressor::pushNewCrossings()
   // the faces with two corners on curves and a free third, each list cut into blocks whose two
   // halves run on two threads (bothHalves; progress between blocks). Each vertex caches its
   // grid distance (Distance) from one thread only, so the result is the serial one.
-  std::vector<int> asked; // vertex ids, increasing
+  LargeVector<int> asked; // vertex ids, increasing
   bool unknown = false;   // a vertex whose grid distance is not known yet
   {
-    std::vector<std::uint8_t> mark(nv, 0);
+    LargeVector<std::uint8_t> mark(nv, 0);
     for (const std::array<int, 2>& e : this->Sys->mesh().edges)
     {
       if (crossable(e[0], e[1]))
@@ -1612,7 +1612,7 @@ std::size_t Compressor::pushNewCrossings()
       }
     }
   }
-  std::vector<std::array<int, 2>> faces; // (face, its free corner)
+  LargeVector<std::array<int, 2>> faces; // (face, its free corner)
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
     int freeCorner = -1, onCurve = 0;
@@ -1636,7 +1636,7 @@ std::size_t Compressor::pushNewCrossings()
   {
     this->buildCurveCells(); // (before the threads, which read it)
   }
-  std::vector<int> region(nv, -3), faceRegion(faces.size(), -3);
+  LargeVector<int> region(nv, -3), faceRegion(faces.size(), -3);
   if (this->WaveVertexAt.size() != nv)
   {
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -1645,7 +1645,7 @@ std::size_t Compressor::pushNewCrossings()
   }
   // The last call's answer for each face asked now, if it asked about it (both lists are by
   // increasing face id).
-  std::vector<int> faceBefore(faces.size(), -1);
+  LargeVector<int> faceBefore(faces.size(), -1);
   for (std::size_t k = 0, j = 0; k < faces.size() && j < this->WaveFaces.size(); ++k)
   {
     while (j < this->WaveFaces.size() && this->WaveFaces[j].face < faces[k][0])
@@ -1719,7 +1719,7 @@ std::size_t Compressor::pushNewCrossings()
     }
     return region[v];
   };
-  std::vector<std::uint8_t> push(nv, 0);
+  LargeVector<std::uint8_t> push(nv, 0);
   for (const std::array<int, 2>& e : this->Sys->mesh().edges)
   {
     this->poll(static_cast<std::size_t>(&e - this->Sys->mesh().edges.data()));

@@ -312,7 +312,7 @@ private:
     int region;
     Vec2 at;
   };
-  std::vector<FaceAnswer> WaveFaces;
+  LargeVector<FaceAnswer> WaveFaces;
   LargeVector<int> JunctionOf;     // junction node a vertex was placed on, or -1
   LargeVector<int> JunctionTarget; // junction node a vertex is pushed to, or -1
 

@@ -366,7 +366,8 @@ Vec2 circumcenter(Vec2 a, Vec2 b, Vec2 c)
   return a + Vec2{ (ca.y * lb - ba.y * lc) / d, (ba.x * lc - ca.x * lb) / d };
 }
 
-void sortUnique(std::vector<int>& list)
+template<class List>
+void sortUnique(List& list)
 {
   std::sort(list.begin(), list.end());
   list.erase(std::unique(list.begin(), list.end()), list.end());
@@ -771,7 +772,8 @@ private:
       std::fabs(cross(b - a, w - a)) <= kCornerStraight * norm2(b - a);
   }
   LargeVector<int> centroidRegionsNear(const RecoveryMemo* before);
-  void appendNeighbours(int t, std::vector<int>& list) const
+  template<class List>
+  void appendNeighbours(int t, List& list) const
   {
     for (int n : this->Nbr[t])
     {
@@ -1569,8 +1571,8 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
   // The centroids' curve queries (geometry only: the rounds change regions, not positions)
   // are asked all at once first when the caller can answer them so.
   LargeVector<int> near = this->centroidRegionsNear(before);
-  std::vector<int> todo(queue.begin(), queue.end()), next;
-  std::vector<char> far(this->M.triangles.size(), 0);
+  LargeVector<int> todo(queue.begin(), queue.end()), next;
+  LargeVector<char> far(this->M.triangles.size(), 0);
   for (int round = 0; round < 4 && !todo.empty(); ++round)
   {
     next.clear();
@@ -1595,9 +1597,9 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
   // The probes of the triangles as they are now, asked all at once (in blocks) when the
   // caller can answer them so: a triangle's answer holds while no insertion changed it (points
   // never move here; an insertion reports every triangle it changes).
-  std::vector<int> probeT; // the triangles probed in advance, increasing
-  std::vector<char> probeFound, changed;
-  std::vector<Vec2> probeAt;
+  LargeVector<int> probeT; // the triangles probed in advance, increasing
+  LargeVector<char> probeFound, changed;
+  LargeVector<Vec2> probeAt;
   if (this->P.curvePoints)
   {
     const std::size_t nt = this->M.triangles.size();
@@ -1612,7 +1614,7 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
     probeAt.resize(probeT.size());
     // The triangles the recovery before probed, unchanged, take its answers; the others are
     // asked (by their places in probeT).
-    std::vector<std::size_t> ask;
+    LargeVector<std::size_t> ask;
     for (std::size_t i = 0; i < probeT.size(); ++i)
     {
       const int t = probeT[i];
@@ -1632,8 +1634,8 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
         ask.push_back(i);
       }
     }
-    std::vector<Vec2> corners, at;
-    std::vector<char> found;
+    LargeVector<Vec2> corners, at;
+    LargeVector<char> found;
     for (std::size_t begin = 0; begin < ask.size(); begin += kTwoThreadBlock)
     {
       this->report();

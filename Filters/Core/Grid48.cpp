@@ -1115,7 +1115,7 @@ public:
     {
       l &= Grid48::kLevelMask; // flags are per call (parameters and model may have changed)
     }
-    std::vector<int> pending;
+    LargeVector<int> pending;
     pending.reserve(1024);
     for (int n = static_cast<int>(g.Level.size()) - 1; n >= 0; --n)
     {
@@ -1583,7 +1583,7 @@ std::size_t Grid48::refineWhere(const std::function<bool(const Grid48&, int node
 {
   maxLevel = std::min(maxLevel, MaxSupportedLevel);
   const std::size_t before = this->Stats.splits;
-  std::vector<int> pending;
+  LargeVector<int> pending;
   for (int n = static_cast<int>(this->Level.size()) - 1; n >= 0; --n)
   {
     if (this->Child[n] < 0)
@@ -1668,7 +1668,7 @@ void Grid48::bisect(int node, int m)
   this->replaceNeighbour(n[1], node, c + 1);
 }
 
-void Grid48::split(int t, double midpointDistance, std::vector<int>* pending, bool forced)
+void Grid48::split(int t, double midpointDistance, LargeVector<int>* pending, bool forced)
 {
   const int level = this->nodeLevel(t);
   int n = this->Nbr[t][0];

@@ -361,7 +361,7 @@ private:
 
   static Grid48Params resolveParams(const Model& model, const Grid48Params& params, double side);
   int addVertex(std::array<std::uint32_t, 2> lattice, int level, double distance);
-  void split(int node, double midpointDistance, std::vector<int>* pending, bool forced = false);
+  void split(int node, double midpointDistance, LargeVector<int>* pending, bool forced = false);
   void bisect(int node, int midpoint);
   void replaceNeighbour(int node, int from, int to);
   friend class Grid48Refiner;

@@ -12,8 +12,12 @@ namespace strata
 {
 namespace detail
 {
-/// Blocks of at least this many bytes are mapped on their own (on Linux).
-constexpr std::size_t kLargeBlockBytes = std::size_t(4) << 20;
+/// Blocks of at least this many bytes are mapped on their own (on Linux). From 1 MiB a 2 MiB
+/// page (one fault, at most 1 MiB of it unused) costs less than the 256 faults of 4 KiB pages
+/// (10 us each on the machines of issue 4, also when the process had the memory before);
+/// below, operator new's pool. (It was 4 MiB until 2026-12-04: the per-vertex and
+/// per-triangle arrays of a 1 M-triangle run, 2 to 4 MiB, took 4 KiB pages.)
+constexpr std::size_t kLargeBlockBytes = std::size_t(1) << 20;
 /// Returns `bytes` bytes aligned for any fundamental type. A block of kLargeBlockBytes or more
 /// is, on Linux, an anonymous mapping of whole 2 MiB pages aligned to 2 MiB and advised as
 /// transparent huge pages (madvise MADV_HUGEPAGE); smaller blocks, and every block elsewhere,

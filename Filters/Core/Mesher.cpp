@@ -696,7 +696,7 @@ void refineCompressed(CompressionResult& compressed,
   double cell = 0.0;
   const SegmentGrid curveCells = [&]()
   {
-    std::vector<double> longest(compressed.triangles.size());
+    LargeVector<double> longest(compressed.triangles.size());
     for (std::size_t t = 0; t < longest.size(); ++t)
     {
       const auto& tri = compressed.triangles[t];
@@ -745,7 +745,7 @@ void refineCompressed(CompressionResult& compressed,
     // (A triangle with a curve nearer to its centroid than its longest edge whose centroid
     // lies in another region; the centroids are asked in blocks, between progress reports.)
     const std::size_t nt = compressed.triangles.size();
-    std::vector<char> wrong(nt);
+    LargeVector<char> wrong(nt);
     // (The answers, for the refinement's first recovery: the mesh before the snaps below.)
     known.triangles = compressed.triangles;
     known.points = compressed.points;
@@ -1943,6 +1943,16 @@ MesherResult triangulateOnce(const RawPolylines& input,
     };
     std::vector<Vec2> a, b;
     std::vector<double> h; // localEdge of segment a -> b
+    {
+      std::size_t segments = 0;
+      for (const MesherResult::BoundaryCurve& c : result.boundary)
+      {
+        segments += c.points.empty() ? 0 : c.points.size() - 1;
+      }
+      a.reserve(segments);
+      b.reserve(segments);
+      h.reserve(segments);
+    }
     for (std::size_t ci = 0; ci < result.boundary.size(); ++ci)
     {
       const MesherResult::BoundaryCurve& c = result.boundary[ci];

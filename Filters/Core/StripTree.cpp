@@ -648,7 +648,7 @@ SegmentGrid::SegmentGrid(std::vector<Vec2> a,
   const std::size_t nx = static_cast<std::size_t>(this->Nx);
   const std::size_t cells = nx * static_cast<std::size_t>(this->Ny);
   // (cell, segment) for every cell a segment passes within the margin of, in segment order.
-  std::vector<std::pair<std::uint32_t, int>> near;
+  LargeVector<std::pair<std::uint32_t, int>> near;
   const double m = this->Margin;
   for (std::size_t s = 0; s < this->A.size(); ++s)
   {

@@ -4,6 +4,7 @@
 #define StrataMeshCore_StripTree_h
 
 #include "Geometry.h"
+#include "LargeArray.h"
 
 #include <cmath>
 #include <cstdint>
@@ -115,8 +116,8 @@ private:
   double Cell = 0.0, InvCell = 0.0, Margin = 0.0;
   int Nx = 0, Ny = 0;
   // The segments near cell j Nx + i: Items[Start[j Nx + i] .. Start[j Nx + i + 1]).
-  std::vector<std::uint32_t> Start;
-  std::vector<int> Items;
+  LargeVector<std::uint32_t> Start;
+  LargeVector<int> Items;
 };
 
 } // namespace strata

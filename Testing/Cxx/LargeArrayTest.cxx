@@ -42,6 +42,12 @@ TEST(LargeArrayTest, LargeBlocksStartOnAHugePageBoundary)
 #if defined(__linux__)
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(big.data()) % (std::uintptr_t(2) << 20), 0u);
 #endif
+  // From the threshold on (a per-vertex array of a 1 M-triangle run is 2 to 4 MiB).
+  LargeVector<char> threshold(strata::detail::kLargeBlockBytes, 'x');
+  EXPECT_EQ(threshold.back(), 'x');
+#if defined(__linux__)
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(threshold.data()) % (std::uintptr_t(2) << 20), 0u);
+#endif
   LargeVector<double> small(100, 1.5); // from operator new: only the usual alignment
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(small.data()) % alignof(double), 0u);
   EXPECT_DOUBLE_EQ(small[99], 1.5);
