@@ -108,9 +108,18 @@
 // 3. Refinement. A queue holds the region triangles whose smallest angle is below
 //    minimumAngle. For each (still bad) triangle with shortest edge pq:
 //    - if its smallest angle lies between two constrained edges (a corner of the region), or
-//      pq is shorter than half minimumEdgeLength, it is left (counted at the end), unless
-//      that corner is a spike of the mesh's own (2c): then the longer of its two sides is
-//      split at the point the BoundarySplitter gives, and the triangle queued again;
+//      pq is shorter than the floor, it is left (counted at the end), unless that corner is
+//      a spike of the mesh's own (2c): then the longer of its two sides is split at the
+//      point the BoundarySplitter gives, and the triangle queued again. The floor is half
+//      minimumEdgeLength, except within one minimumEdgeLength of a constrained edge shorter
+//      than 0.4 of it in the pass's mesh before its runs, between two points where a vertex
+//      stays (RefinementParams::stopPoint, when given: two junctions close together, an edge
+//      no split may shorten, so the triangles beside it are only good when they are about
+//      as small): there it is half that edge, and at least a twentieth of minimumEdgeLength
+//      (random faulted sections' junction pairs 0.2 finest edges apart: 27.1 and 28.3 ->
+//      30.0 degrees; the gulf at MaxLevel 6, 25.6 -> 29.9). Beside any short edge, a curve
+//      point beside a junction too, it let the bold runs' cascades cut the gulf's layers at
+//      coarse levels (2026-12-04: at MaxLevel 6 a layer lost over a stretch);
 //    - the point to insert is its circumcentre, or, when that lies farther from pq, the
 //      off-centre: the point on pq's bisector whose triangle with pq has an apex angle
 //      slightly above minimumAngle (fewer, better graded vertices than circumcentres);
@@ -124,7 +133,7 @@
 //      it lies on one) and the edges opposite it are flipped back to Delaunay (Lawson).
 //    A constrained edge ab is split at the point the BoundarySplitter gives (the curve point
 //    nearest its middle: new boundary vertices lie on the model's curves), unless it is
-//    shorter than minimumEdgeLength, the splitter refuses, or a piece would not be
+//    shorter than twice the floor at its middle, the splitter refuses, or a piece would not be
 //    counter-clockwise; the bad triangle is queued again. Every triangle a change creates is
 //    queued when bad. The number of insertions is capped by insertionBudget.
 // 4. Transactions. Each insertion (with its flips) is recorded and undone when the triangles
@@ -335,6 +344,13 @@ constexpr int kRecoveryPasses = 2;          // passes of 2b-5 with the curve rec
 // on a 0.70 long edge between two junctions, the finest legs 0.95 long). The probes of 2b and the
 // corners of 2c keep minimumEdgeLength: recovering thinner layers costs angles where they end.
 constexpr double kFloor = 0.5;
+// ... except within one minimumEdgeLength of a region boundary edge shorter than kShortFeature
+// of it between two stop points (RefinementParams::stopPoint: two junctions close together):
+// there it goes down to half that edge, and at least to kLowestFloor of minimumEdgeLength.
+// (Elsewhere the refinement's own splits make no such edge: their pieces are about half
+// minimumEdgeLength long at least.)
+constexpr double kShortFeature = 0.4;
+constexpr double kLowestFloor = 0.05;
 constexpr double kCornerOff = 1e-6; // 2b': a model corner this many of a chord's lengths off it
                                     // is not on it
 constexpr double kCornerStraight = 0.05; // 2b': ... and its sides' stretches this close to
@@ -619,6 +635,16 @@ public:
     this->Kept = other.Kept;
     this->KeepRan = other.KeepRan;
   }
+  /// Step 3's local floors: the region boundary edges of this mesh shorter than
+  /// kShortFeature minimumEdgeLength, between two stop points when RefinementParams::stopPoint
+  /// is given (see the top of this file). Called on a pass's mesh before its runs, which take
+  /// them (adopt(), takeShortEdges()).
+  void findShortEdges();
+  void takeShortEdges(const Refiner& other)
+  {
+    this->Shorts = other.Shorts;
+    this->ShortCells = other.ShortCells;
+  }
   /// Disks around the kept corners (their wedges' reach).
   std::vector<Zone> keptDisks() const
   {
@@ -885,6 +911,19 @@ private:
     std::vector<Vec2> outline; // apex, first side, second side back
   };
   std::vector<Wedge> Kept; // the kept corners' wedges (their triangles are not bad)
+  struct ShortEdge
+  {
+    Vec2 middle;
+    double length;
+  };
+  std::vector<ShortEdge> Shorts; // (findShortEdges())
+  // Shorts by cell of a grid of cells minimumEdgeLength wide (a hash of the cell's indices).
+  std::unordered_map<std::int64_t, std::vector<int>> ShortCells;
+  static std::int64_t shortCell(std::int64_t i, std::int64_t j)
+  {
+    return i * 73856093LL ^ j * 19349663LL;
+  }
+  double floorAt(Vec2 x) const;
 };
 
 void Refiner::buildNeighbours()
@@ -1302,7 +1341,7 @@ bool Refiner::splitBoundary(int t, int k)
   const bool side = !this->Kept.empty() && (this->inKept(t) || (u >= 0 && this->inKept(u)));
   const Vec2 a = this->X(this->M.triangles[t][k]), b = this->X(this->M.triangles[t][(k + 1) % 3]);
   const double l = norm(b - a);
-  if (l < 2.0 * kFloor * this->P.minimumEdgeLength)
+  if (l < 2.0 * kFloor * this->P.minimumEdgeLength && l < 2.0 * this->floorAt(0.5 * (a + b)))
   {
     return false;
   }
@@ -2888,7 +2927,80 @@ void Refiner::adopt(const Refiner& prepared)
   this->Live = prepared.Live;
   this->Kept = prepared.Kept;
   this->KeepRan = prepared.KeepRan;
+  this->takeShortEdges(prepared);
   this->Saved.assign(this->M.triangles.size(), 0);
+}
+
+void Refiner::findShortEdges()
+{
+  this->Shorts.clear();
+  this->ShortCells.clear();
+  const double h = this->P.minimumEdgeLength;
+  if (!(h > 0.0))
+  {
+    return;
+  }
+  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  {
+    if (!this->Live[t] || this->M.region[t] < 0)
+    {
+      continue;
+    }
+    const auto& tri = this->M.triangles[t];
+    for (int k = 0; k < 3; ++k)
+    {
+      const int u = this->Nbr[t][k];
+      // (Each edge once: from the triangle of the smaller index when both are regions'.)
+      if (!this->constrained(static_cast<int>(t), k) ||
+        (u >= 0 && u < static_cast<int>(t) && this->M.region[u] >= 0 && this->Live[u]))
+      {
+        continue;
+      }
+      const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
+      const double l = norm(b - a);
+      if (!(l < kShortFeature * h) ||
+        (this->P.stopPoint && !(this->P.stopPoint(a) && this->P.stopPoint(b))))
+      {
+        continue;
+      }
+      const Vec2 middle = 0.5 * (a + b);
+      this
+        ->ShortCells[shortCell(static_cast<std::int64_t>(std::floor(middle.x / h)),
+          static_cast<std::int64_t>(std::floor(middle.y / h)))]
+        .push_back(static_cast<int>(this->Shorts.size()));
+      this->Shorts.push_back({ middle, l });
+    }
+  }
+}
+
+// Step 3's floor at x: the shortest edge a bad triangle there may have and still be refined,
+// half the length a boundary edge there may have and still be split.
+double Refiner::floorAt(Vec2 x) const
+{
+  const double h = this->P.minimumEdgeLength;
+  double floor = kFloor * h;
+  if (this->Shorts.empty())
+  {
+    return floor;
+  }
+  const std::int64_t ci = static_cast<std::int64_t>(std::floor(x.x / h));
+  const std::int64_t cj = static_cast<std::int64_t>(std::floor(x.y / h));
+  for (std::int64_t i = ci - 1; i <= ci + 1; ++i)
+  {
+    for (std::int64_t j = cj - 1; j <= cj + 1; ++j)
+    {
+      const auto found = this->ShortCells.find(shortCell(i, j));
+      for (std::size_t e = 0; found != this->ShortCells.end() && e < found->second.size(); ++e)
+      {
+        const ShortEdge& s = this->Shorts[found->second[e]];
+        if (norm2(s.middle - x) <= h * h)
+        {
+          floor = std::min(floor, std::max(kFloor * s.length, kLowestFloor * h));
+        }
+      }
+    }
+  }
+  return floor;
 }
 
 RefinementResult Refiner::run(const std::vector<int>* bad)
@@ -2935,7 +3047,7 @@ RefinementResult Refiner::run(const std::vector<int>* bad)
     }
     const Vec2 p = this->X(tri[(corner + 1) % 3]), q = this->X(tri[(corner + 2) % 3]);
     const double l = norm(q - p);
-    if (l < kFloor * this->P.minimumEdgeLength)
+    if (l < kFloor * this->P.minimumEdgeLength && l < this->floorAt(0.5 * (p + q)))
     {
       continue;
     }
@@ -4596,6 +4708,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   std::vector<std::vector<Vec2>> keptOutline;
   const std::size_t extendedWedges = last ? base.extendWedges() : 0;
   const std::size_t keptCorners = last ? base.keepCorners(keptRadius, keptOutline) : 0;
+  base.findShortEdges();
   const std::size_t flips = base.flips();
   KeptRun kept = keptRun(mesh, base, splitter, params, progress);
   RegionMesh& best = kept.mesh;
@@ -4609,6 +4722,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   // (The kept run's neighbours, unless the collapses changed the mesh since.)
   polish.prepare(cutCollapses == 0 ? &kept.neighbours : nullptr);
   polish.keepWedges(base);
+  polish.takeShortEdges(base);
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
   bestResult.dissolvedCorners = dissolved + polish.dissolveCorners();
   bestResult.boundaryVertices += base.tipVertices() + polish.tipVertices() + base.keptVertices();
@@ -4647,6 +4761,7 @@ RefinementResult refinePass(RegionMesh& mesh,
       collapsed.emplace(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
       collapsed->prepare();
       collapsed->keepWedges(base);
+      collapsed->takeShortEdges(base);
       bestResult.delaunayFlips += collapsed->flips();
     }
     Refiner& mender = collapsed ? *collapsed : polish;
@@ -4689,6 +4804,7 @@ RefinementResult refinePass(RegionMesh& mesh,
     finisher->boldInside();
     finisher->prepare();
     finisher->keepWedges(base);
+    finisher->takeShortEdges(base);
     finisher->limitBudget(budgetLeft());
     const RefinementResult r = finisher->run();
     const double after = finisher->angleAfterRun();

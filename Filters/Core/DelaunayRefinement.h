@@ -46,7 +46,9 @@ struct RefinementParams
   /// Model units (> 0 finite, or 0 for no floor). A bad triangle whose shortest edge is
   /// shorter than half this is left as it is, and a region boundary edge shorter than this is
   /// not split: the floor that ends the refinement where the input itself is finer (curves
-  /// closer than this, small input angles).
+  /// closer than this, small input angles). Within this of a region boundary edge shorter
+  /// than 0.4 of it between two stop points (stopPoint: two junctions close together), the
+  /// floor is half that edge instead (and at least a twentieth of this).
   double minimumEdgeLength = 0.0;
   /// Model units (> 0 finite, or 0 for none). A region edge longer than this is split: in
   /// its middle, or, for a region boundary edge, at the point the BoundarySplitter gives (on
@@ -127,6 +129,11 @@ struct RefinementParams
   /// collapses of short edges keep such a corner's vertex. For chords the compression left
   /// across a corner of a section's box or a kink of a horizon. Empty: none of this.
   std::function<bool(Vec2 p)> modelCorner;
+  /// Optional: whether p is a point of the model where a mesh vertex stays (a junction of
+  /// three or more regions, a curve's end, a corner sharper than FeatureAngle). The local
+  /// floors of step 3 are only beside short region boundary edges between two such points.
+  /// Empty: beside every short region boundary edge.
+  std::function<bool(Vec2 p)> stopPoint;
   /// Optional corners kept to their apex (with regionAt and onCurve; see DelaunayRefinement.cpp,
   /// step 7): in the last pass, before its refinement runs, the wedge of each between its apex
   /// and the nearest vertices of its region on its two sides is rebuilt as rungs of its region

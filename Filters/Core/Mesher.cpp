@@ -885,6 +885,17 @@ void refineCompressed(CompressionResult& compressed,
   {
     rp.regionAt = regionOf;
     rp.regionsNear = regionsNear;
+    rp.stopPoint = [&](Vec2 p)
+    {
+      double d = 0.0;
+      const BoundaryRails::Location l = within(p, 2.0 * onCurveTolerance, &d);
+      if (l.chain < 0 || d > onCurveTolerance)
+      {
+        return false;
+      }
+      const int point = rails.pointAt(l);
+      return point >= 0 && rails.isStop(l.chain, point);
+    };
     rp.onCurve = [&](Vec2 p)
     {
       double d = 0.0;

@@ -467,7 +467,9 @@ TEST(DelaunayRefinementTest, SmoothingSlidesBoundaryVerticesOnTheirCurveAndMoves
     return m;
   };
   RefinementParams p;
-  p.minimumEdgeLength = 100.0; // nothing inserted, nothing split
+  // Nothing inserted, nothing split: even the floor beside the short boundary edge (9, 5) -
+  // (10, 5), a twentieth of minimumEdgeLength there, lies above every edge.
+  p.minimumEdgeLength = 1000.0;
   p.curveDistance = [](Vec2 q, double)
   {
     return std::min({ std::fabs(q.y - 5.0),
@@ -1261,6 +1263,95 @@ TEST(DelaunayRefinementTest, TrianglesDownToHalfTheMinimumEdgeLengthAreRefined)
   expectValid(coarse);
   EXPECT_GT(left.badTrianglesLeft, 0u);
   EXPECT_LT(meshMinimumAngle(coarse), 30.0);
+}
+
+// A square [0, 10]^2 cut in two regions by the line y = 5, on which two vertices lie `gap`
+// apart at (5, 5) and (5 + gap, 5) (two junctions close together), each region a fan of four
+// triangles: the two beside the short edge are slivers.
+RegionMesh shortBoundaryEdge(double gap)
+{
+  RegionMesh m;
+  m.points = {
+    { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 }, { 0, 5 }, { 5, 5 }, { 5 + gap, 5 }, { 10, 5 }
+  };
+  m.triangles = { { 0, 1, 6 },
+    { 1, 7, 6 },
+    { 0, 6, 5 },
+    { 0, 5, 4 },
+    { 4, 5, 3 },
+    { 5, 6, 3 },
+    { 6, 2, 3 },
+    { 6, 7, 2 } };
+  m.region = { 0, 0, 0, 0, 1, 1, 1, 1 };
+  m.level.assign(m.triangles.size(), 0);
+  return m;
+}
+
+// Beside a region boundary edge shorter than 0.4 minimumEdgeLength that the refinement may not
+// split (two junctions 0.3 apart, minimumEdgeLength 2: half of it, the floor elsewhere, is
+// above the slivers' shortest edges), the triangles are refined down to half that edge: every
+// triangle reaches the bound, and the short edge stays. An edge shorter than a tenth of the
+// floor (0.02) gets triangles down to a twentieth of minimumEdgeLength only: the slivers beside
+// it are left, and the refinement ends well within its budget.
+TEST(DelaunayRefinementTest, BesideAShortBoundaryEdgeTrianglesAreRefinedDownToIt)
+{
+  RefinementParams p;
+  p.minimumEdgeLength = 2.0;
+  RegionMesh m = shortBoundaryEdge(0.3);
+  const std::map<int, double> before = regionAreas(m);
+  const RefinementResult r = strata::refineDelaunay(m, middle, p);
+  expectValid(m);
+  EXPECT_EQ(r.badTrianglesLeft, 0u);
+  EXPECT_GE(meshMinimumAngle(m), 30.0 - 1e-9);
+  EXPECT_EQ(boundaryEdges(m).count({ 5, 6 }), 1u);
+  for (const auto& [region, a] : regionAreas(m))
+  {
+    EXPECT_NEAR(a, before.at(region), 1e-9) << "region " << region;
+  }
+  // Away from it the floor holds: no edge shorter than half minimumEdgeLength farther than 3
+  // from the short edge.
+  for (const auto& tri : m.triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const Vec2 a = m.points[tri[k]], b = m.points[tri[(k + 1) % 3]];
+      if (strata::norm(0.5 * (a + b) - Vec2{ 5.15, 5.0 }) > 3.0)
+      {
+        EXPECT_GE(strata::norm(b - a), 0.5 * p.minimumEdgeLength - 1e-9);
+      }
+    }
+  }
+
+  RegionMesh tiny = shortBoundaryEdge(0.02);
+  const RefinementResult left = strata::refineDelaunay(tiny, middle, p);
+  expectValid(tiny);
+  EXPECT_GT(left.badTrianglesLeft, 0u);
+  EXPECT_FALSE(left.budgetReached);
+  EXPECT_LT(left.interiorVertices + left.boundaryVertices, 1000u);
+}
+
+// With stopPoint (the mesher's: junctions, curve ends, feature points), the local floor is
+// only beside a short region boundary edge between two such points: the same two junctions
+// 0.3 apart are refined down to it, but when one end is an ordinary curve point the floor
+// stays half minimumEdgeLength there and the slivers beside the edge are left.
+TEST(DelaunayRefinementTest, TheLocalFloorIsOnlyBetweenTwoStopPointsWhenTheyAreGiven)
+{
+  const auto at = [](Vec2 q, Vec2 x) { return strata::norm(q - x) < 1e-12; };
+  RefinementParams p;
+  p.minimumEdgeLength = 2.0;
+  p.stopPoint = [&](Vec2 q) { return at(q, { 5.0, 5.0 }) || at(q, { 5.3, 5.0 }); };
+  RegionMesh junctions = shortBoundaryEdge(0.3);
+  const RefinementResult r = strata::refineDelaunay(junctions, middle, p);
+  expectValid(junctions);
+  EXPECT_EQ(r.badTrianglesLeft, 0u);
+  EXPECT_GE(meshMinimumAngle(junctions), 30.0 - 1e-9);
+
+  p.stopPoint = [&](Vec2 q) { return at(q, { 5.0, 5.0 }); };
+  RegionMesh one = shortBoundaryEdge(0.3);
+  const RefinementResult left = strata::refineDelaunay(one, middle, p);
+  expectValid(one);
+  EXPECT_GT(left.badTrianglesLeft, 0u);
+  EXPECT_LT(meshMinimumAngle(one), 30.0);
 }
 
 // Curve fidelity (RefinementParams::curveDeviation): a region boundary edge that cuts off

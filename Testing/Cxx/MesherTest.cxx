@@ -1727,6 +1727,24 @@ TEST(MesherTest, ATriangleTheCautiousRunLeavesBelowTheBoundIsMendedByABoldRunNea
   EXPECT_TRUE(r.brokenRegions.empty());
 }
 
+// Two junctions 0.20 finest edges apart, where a layer meets a fault (junction_pair_section.vtp,
+// f104 of random_faulted_sections.py 104 105): their edge is shorter than any split may make,
+// so the triangles beside it are only good when they are about as small. The refinement's
+// floor is half that edge there (half the finest edge elsewhere): every triangle reaches
+// 30 degrees (28.3 with the floor everywhere the same), with the other bounds.
+TEST(MesherTest, TrianglesBesideTwoJunctionsCloseTogetherReachTheBound)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("junction_pair_section.vtp"));
+  const strata::MesherResult r = strata::triangulate(raw);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_LE(r.summary.maxAngle, 130.0);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_TRUE(r.brokenRegions.empty());
+}
+
 // Sizes set in model units keep the boundary bound: a mesh that misses it is made again with
 // ThinLayerRefinement around the misses, at the same finest edge (sized_lost_piece_loops.vtp at
 // MaximumEdgeLength 20, MinimumEdgeLength 0.5: made once, a piece of a layer goes to its
