@@ -1710,6 +1710,21 @@ TEST(MesherTest, ARegionLeftWithFewerPiecesThanTheModelIsMadeAgainFiner)
     << allWarnings(d);
 }
 
+namespace
+{
+// Every triangle at 30 degrees (none left below MinimumAngle), the largest angle at most 130,
+// areas within 0.5%, the boundary within half the local edge, no region cut or lost.
+void expectEveryTriangleAtThirtyWithinTheBounds(const strata::MesherResult& r)
+{
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_LE(r.summary.maxAngle, 130.0);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_TRUE(r.brokenRegions.empty());
+}
+} // namespace
+
 // The last pass's cautious run may leave a triangle below MinimumAngle where a bolder
 // insertion would mend it: a sliver at a lake's shore, whose boundary split the cautious run
 // refuses (shore_sliver_lake.vtp, lake126 of random_lakes_countries.py 118 130: 27.3 degrees).
@@ -1719,12 +1734,7 @@ TEST(MesherTest, ATriangleTheCautiousRunLeavesBelowTheBoundIsMendedByABoldRunNea
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("shore_sliver_lake.vtp"));
   const strata::MesherResult r = strata::triangulate(raw);
-  EXPECT_GE(r.summary.minAngle, 29.95);
-  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
-  EXPECT_LE(r.summary.maxAngle, 130.0);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_TRUE(r.brokenRegions.empty());
+  expectEveryTriangleAtThirtyWithinTheBounds(r);
 }
 
 // Two junctions 0.20 finest edges apart, where a layer meets a fault (junction_pair_section.vtp,
@@ -1737,12 +1747,7 @@ TEST(MesherTest, TrianglesBesideTwoJunctionsCloseTogetherReachTheBound)
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("junction_pair_section.vtp"));
   const strata::MesherResult r = strata::triangulate(raw);
-  EXPECT_GE(r.summary.minAngle, 29.95);
-  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
-  EXPECT_LE(r.summary.maxAngle, 130.0);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_TRUE(r.brokenRegions.empty());
+  expectEveryTriangleAtThirtyWithinTheBounds(r);
 }
 
 // Sizes set in model units keep the boundary bound: a mesh that misses it is made again with
