@@ -1829,6 +1829,18 @@ TEST(MesherTest, AnInletBesideABendOfTheShoreIsNotTakenForANarrowRegion)
   expectLakeWithinTheBounds("island_inlet_lake.vtp");
 }
 
+// A corner of a shore where a spur of land narrower than the finest edge starts
+// (spur_corner_lake.vtp, lake125 of random_lakes_countries.py 125 126): the mesh made once cuts
+// the spur off with one edge, 0.52 local edges from the curve at the corner by this file's
+// measure, whose corner is the end of the segment before the spur (not beside a narrow
+// region). The mesher sampled each segment from its start only, so it took the corner as the
+// start of the spur's first segment and left it out (0.46). With each segment's end sampled
+// as that segment's, the miss is seen and the mesh refined around it is kept.
+TEST(MesherTest, TheCornerWhereANarrowSpurStartsIsMeasuredAsTheSegmentBeforeIt)
+{
+  expectLakeWithinTheBounds("spur_corner_lake.vtp");
+}
+
 // A boundary edge that cuts off a bulge of an island deeper than 0.4 of the local edge (and a
 // finest edge) is split at the bulge's farthest point, whatever the area (bulge_island_lake.vtp:
 // an edge 17.6 long, the bulge 8.1 deep, triangles about 15 long beside it; the area bound,
