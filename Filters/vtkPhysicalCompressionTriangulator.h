@@ -304,7 +304,7 @@ public:
    *   field), CurveRecovery and MinimumAngle 25 or more: still below 25 degrees where no input
    *   corner forces it, a region's area still off by more than 0.5%, or, with MaxLevel
    *   automatic too, a region with more or fewer pieces than the model has (`BrokenRegions`) or a
-   *   `MaxRelativeBoundaryDeviation` above 0.55: made again with LocalMaxLevel 4 levels finer
+   *   `MaxRelativeBoundaryDeviation` above 0.5: made again with LocalMaxLevel 4 levels finer
    *   and, when that one is kept and still misses, 2 levels finer again; when that third one
    *   is kept and still cuts a region, 2 levels finer once more (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25

@@ -80,7 +80,7 @@ struct MesherParams
   /// angle: a mesh still below 25 degrees (layers about a finest edge thick), or with a
   /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
   /// region cut into more pieces than the model has or left with fewer
-  /// (MesherResult::brokenRegions) or its Summary::maxRelativeDeviation still above 0.55, is
+  /// (MesherResult::brokenRegions) or its Summary::maxRelativeDeviation still above 0.5, is
   /// made again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when
   /// its smallest angle is larger, or when it mends the area, the pieces or the deviation
   /// without a smaller smallest angle (up to 30 degrees) (a warning gives both;

@@ -809,7 +809,9 @@ TEST(MesherTest, ThinLayerRefinementKeepsAFaultedSectionsBoundaryWithinHalfTheLo
 // Marmousi: the grid of ThinLayerRefinement everywhere makes the compression leave vertices off
 // the curves (a 9.4-degree mesh), so when the user sets it the mesh without it is made too and
 // kept, as it is better; a warning gives both meshes' figures, and the time of the discarded
-// run is a stage. By default the mesh without it misses the boundary bound by a hair (0.50
+// run is a stage. That mesh, 0.501 local edges off the curves, is made again at the finer
+// level too (since 2026-12-04: a boundary above half a local edge), which is not better and
+// is discarded. By default the mesh without it misses the boundary bound by a hair (0.50
 // local edges), and the one refined around that place only is kept (0.40).
 TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBounds)
 {
@@ -830,9 +832,21 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   EXPECT_NE(all.find("the mesh with ThinLayerRefinement missed the angle, area or boundary bound"),
     std::string::npos)
     << all;
-  ASSERT_FALSE(thin.summary.secondsPerStage.empty());
-  EXPECT_EQ(thin.summary.secondsPerStage.front().first, "discarded run");
-  EXPECT_GE(thin.summary.totalSeconds, thin.summary.secondsPerStage.front().second);
+  // (The discarded runs' times are stages: the mesh with ThinLayerRefinement, and, as the mesh
+  // kept is 0.501 local edges off the curves, the finer level's, not better either.)
+  const auto& stages = thin.summary.secondsPerStage;
+  const auto stage = [&](const char* name)
+  {
+    return std::find_if(stages.begin(),
+      stages.end(),
+      [&](const std::pair<std::string, double>& s) { return s.first == name; });
+  };
+  ASSERT_NE(stage("discarded run"), stages.end());
+  EXPECT_GE(thin.summary.totalSeconds, stage("discarded run")->second);
+  ASSERT_NE(stage("discarded level run"), stages.end());
+  EXPECT_NE(all.find("had its boundary 0.50 local edges off the input curves"), std::string::npos)
+    << all;
+  EXPECT_NE(all.find("the first one is kept"), std::string::npos) << all;
 
   const strata::MesherResult d = strata::triangulate(raw);
   EXPECT_GT(plain.summary.maxRelativeDeviation, 0.5);
@@ -1841,10 +1855,31 @@ TEST(MesherTest, TheCornerWhereANarrowSpurStartsIsMeasuredAsTheSegmentBeforeIt)
   expectLakeWithinTheBounds("spur_corner_lake.vtp");
 }
 
+// A boundary more than half a local edge off the curves after the thin layer meshes asks for
+// the finer level (pinch_end_section.vtp, f137 of random_faulted_sections.py 137 138: the
+// meshes at the automatic LocalMaxLevel 15 end a pinching-out layer where it is about a
+// finest edge thick, just wider than the measure's exemption, 0.503 local edges). Until
+// 2026-12-04 only a miss beyond 0.55 did, and that mesh was kept.
+TEST(MesherTest, ABoundaryMissByAHairIsMadeAgainFiner)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("pinch_end_section.vtp"));
+  const strata::MesherResult r = strata::triangulate(raw);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
+  EXPECT_EQ(r.summary.localMaxLevel, 19);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_TRUE(r.brokenRegions.empty());
+  EXPECT_NE(allWarnings(r).find("had its boundary 0.50 local edges off the input curves"),
+    std::string::npos)
+    << allWarnings(r);
+}
+
 // A boundary edge that cuts off a bulge of an island deeper than 0.4 of the local edge (and a
 // finest edge) is split at the bulge's farthest point, whatever the area (bulge_island_lake.vtp:
 // an edge 17.6 long, the bulge 8.1 deep, triangles about 15 long beside it; the area bound,
-// relative to the lake, never saw it: 0.52 local edges, under the finer level's 0.55).
+// relative to the lake, never saw it: 0.52 local edges, under the finer level's bound then, 0.55).
 TEST(MesherTest, AnIslandsBulgeCutOffByALongEdgeIsFollowed)
 {
   expectLakeWithinTheBounds("bulge_island_lake.vtp");
