@@ -2523,7 +2523,7 @@ MesherResult triangulate(const RawPolylines& input,
   // With every size automatic, a boundary still more than half a local edge off the curves
   // (which the thin layer meshes did not mend) is a miss too (beyond 0.55 until 2026-12-04's
   // thirty-second session: a pinch-out ended where it is about a finest edge thick, 0.503
-  // -> 0.39, and a lake's shore, 0.51 -> 0.34, of the 416 unseen models; Marmousi with
+  // -> 0.39, and a lake's shore, 0.517 -> 0.34, of the 416 unseen models; Marmousi with
   // ThinLayerRefinement on, at 0.501, is made again for a finer mesh not better, 2 -> 4 s), the
   // finer mesh kept when its deviation is smaller with nothing else worse: an island's spit and the
   // bay beside it, each about 1.5 finest edges wide in triangles 4 to 8 finest edges long, are kept
