@@ -1341,8 +1341,17 @@ std::size_t Compressor::refineBoundary()
       });
     splits += now;
     // Edges that cannot be split because the curve runs beyond the opposite face: pull that
-    // face's free vertex onto the curve (the next round splits what is left).
-    this->rebuildStars();
+    // face's free vertex onto the curve (the next round splits what is left). The stars: made
+    // again after the first round's splits; in a later round made again when its splits added
+    // triangles, else updated from the pulls' flips (the same tables, updateStars()).
+    if (round == 0)
+    {
+      this->rebuildStars();
+    }
+    else
+    {
+      this->updateStars();
+    }
     const std::size_t pulled = this->forEachDeviatingEdge(
       [&](int t, int k, const ChainPiece& piece)
       {
@@ -1357,7 +1366,7 @@ std::size_t Compressor::refineBoundary()
       break;
     }
   }
-  this->rebuildStars();
+  this->updateStars(); // (made again or updated, as above)
   return splits;
 }
 
