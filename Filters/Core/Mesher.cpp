@@ -989,6 +989,10 @@ void refineCompressed(CompressionResult& compressed,
       {
         return false; // no point of it lies that far inside
       }
+      if (q.cells.noneInside(a, b, c, margin))
+      {
+        return false; // no curve point lies that far inside (the cells show it): no candidate
+      }
       // A curve point inside the triangle lies no farther from a probe inside it than the
       // probe's farthest corner: the queries are bounded by that (a curve point beyond it lies
       // outside the triangle, and the bound prunes most of the strip tree).

@@ -810,6 +810,91 @@ bool SegmentGrid::smallestValue(Vec2 p,
   return true;
 }
 
+bool SegmentGrid::noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const
+{
+  const Vec2 corner[3] = { a, b, c };
+  for (const Vec2& v : corner)
+  {
+    if (!std::isfinite(v.x) || !std::isfinite(v.y))
+    {
+      return false;
+    }
+  }
+  if (this->Start.empty() || !(depth > 0.0) || !std::isfinite(depth))
+  {
+    return false;
+  }
+  // Side k's signed distance, positive inside: f_k(x) = cross(u_k, x - corner k), u_k the
+  // unit direction from corner k to corner k + 1.
+  Vec2 u[3];
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec2 e = corner[(k + 1) % 3] - corner[k];
+    const double length = norm(e);
+    if (!(length > 0.0))
+    {
+      return false;
+    }
+    u[k] = (1.0 / length) * e;
+  }
+  const double deeper = depth * (1.0 - 1e-6);
+  const auto reaches = [&](Vec2 p, Vec2 q)
+  {
+    // Whether some t in [0, 1] has every f_k(p + t (q - p)) > deeper: the intersection of three
+    // intervals of t (each side's f is linear along the segment).
+    double lo = 0.0, hi = 1.0;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double f0 = cross(u[k], p - corner[k]), f1 = cross(u[k], q - corner[k]);
+      if (f0 <= deeper && f1 <= deeper)
+      {
+        return false;
+      }
+      if (f0 > deeper && f1 > deeper)
+      {
+        continue;
+      }
+      const double t = (deeper - f0) / (f1 - f0); // where f crosses the depth
+      if (f1 > f0)
+      {
+        lo = std::max(lo, t);
+      }
+      else
+      {
+        hi = std::min(hi, t);
+      }
+    }
+    return lo <= hi + 1e-9; // (a hair of slack: counted as reaching)
+  };
+  const double xmin = std::min({ a.x, b.x, c.x }), xmax = std::max({ a.x, b.x, c.x });
+  const double ymin = std::min({ a.y, b.y, c.y }), ymax = std::max({ a.y, b.y, c.y });
+  const int i0 = std::max(0, this->cellOf(xmin, this->Origin.x, this->Nx));
+  const int i1 = std::min(this->Nx - 1, this->cellOf(xmax, this->Origin.x, this->Nx));
+  const int j0 = std::max(0, this->cellOf(ymin, this->Origin.y, this->Ny));
+  const int j1 = std::min(this->Ny - 1, this->cellOf(ymax, this->Origin.y, this->Ny));
+  if (i0 > i1 || j0 > j1)
+  {
+    return true; // beside the grid, which holds every segment
+  }
+  if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
+  {
+    return false;
+  }
+  for (int j = j0; j <= j1; ++j)
+  {
+    const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+    for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+    {
+      const int s = this->Items[k];
+      if (reaches(this->A[s], this->B[s]))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 // With ties: a tie settles the distance (not the segment).
 bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const
 {

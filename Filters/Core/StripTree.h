@@ -103,6 +103,11 @@ public:
   /// true, or false (smallest untouched) for a box of more than 64 cells, a NaN or infinite
   /// p or r, or a `value` list without one entry per segment.
   bool smallestValue(Vec2 p, double r, const std::vector<double>& value, double& smallest) const;
+  /// True only when no segment has a point more than `depth` inside the counter-clockwise
+  /// triangle abc (its distance to the nearest of the triangle's side lines; points within a
+  /// relative 1e-6 of `depth` count as deeper). False when the cells cannot tell: a box of
+  /// more than 64 cells, a NaN or infinite corner, a side of length zero or depth <= 0.
+  bool noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const;
 
 private:
   bool scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const;

@@ -746,6 +746,111 @@ TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reac
   EXPECT_EQ(least, -1.0);
 }
 
+TEST(StripTreeTest, segment_grid_none_inside_only_when_no_segment_reaches_that_deep)
+{
+  // noneInside(a, b, c, depth) is true only when no segment has a point more than depth inside
+  // the triangle (the distance to its nearest side line; brute force: the largest such
+  // distance along each segment, a concave piecewise-linear function, at the segment's ends
+  // and where two sides' distances cross), and it is of use: random triangles about a cell
+  // wide over the model, depths from 2% to 90% of their inradius.
+  const Segments s = readSegments("lake_superior.vtp");
+  const double size = std::max(s.box.width(), s.box.height());
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const auto deepest = [&](Vec2 a, Vec2 b, Vec2 c)
+  {
+    const Vec2 corner[3] = { a, b, c };
+    double best = -std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < s.a.size(); ++i)
+    {
+      double f0[3], f1[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        const Vec2 e = corner[(k + 1) % 3] - corner[k];
+        const Vec2 d = (1.0 / strata::norm(e)) * e;
+        f0[k] = strata::cross(d, s.a[i] - corner[k]);
+        f1[k] = strata::cross(d, s.b[i] - corner[k]);
+      }
+      std::vector<double> ts = { 0.0, 1.0 };
+      for (int k = 0; k < 3; ++k)
+      {
+        for (int l = k + 1; l < 3; ++l)
+        {
+          const double den = (f1[k] - f0[k]) - (f1[l] - f0[l]);
+          if (den != 0.0)
+          {
+            const double t = (f0[l] - f0[k]) / den;
+            if (t > 0.0 && t < 1.0)
+            {
+              ts.push_back(t);
+            }
+          }
+        }
+      }
+      for (const double t : ts)
+      {
+        double inside = std::numeric_limits<double>::infinity();
+        for (int k = 0; k < 3; ++k)
+        {
+          inside = std::min(inside, f0[k] + t * (f1[k] - f0[k]));
+        }
+        best = std::max(best, inside);
+      }
+    }
+    return best;
+  };
+  for (const double cell : { size / 64.0, size / 512.0 })
+  {
+    SCOPED_TRACE(cell);
+    const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
+    std::size_t told = 0, reached = 0, wrong = 0;
+    for (std::size_t n = 0; n < 1500; ++n)
+    {
+      // Half the triangles around a curve point, half anywhere in the box.
+      const std::size_t i = static_cast<std::size_t>(u(rng) * (s.a.size() - 1));
+      const Vec2 centre = n % 2 == 0
+        ? s.a[i] + cell * Vec2{ u(rng) - 0.5, u(rng) - 0.5 }
+        : Vec2{ s.box.min.x + u(rng) * s.box.width(), s.box.min.y + u(rng) * s.box.height() };
+      const double r = cell * (0.3 + 1.5 * u(rng));
+      const double phi = 6.283185307179586 * u(rng);
+      const Vec2 a = centre + r * Vec2{ std::cos(phi), std::sin(phi) };
+      const Vec2 b =
+        centre + r * Vec2{ std::cos(phi + 2.0 + 0.5 * u(rng)), std::sin(phi + 2.0 + 0.5 * u(rng)) };
+      const Vec2 c =
+        centre + r * Vec2{ std::cos(phi + 4.2 + 0.5 * u(rng)), std::sin(phi + 4.2 + 0.5 * u(rng)) };
+      const double perimeter = strata::norm(b - a) + strata::norm(c - b) + strata::norm(a - c);
+      const double inradius = strata::orient2d(a, b, c) / perimeter;
+      if (!(inradius > 0.0))
+      {
+        continue;
+      }
+      const double depth = inradius * (0.02 + 0.88 * u(rng));
+      const double deep = deepest(a, b, c);
+      reached += deep > depth;
+      if (grid.noneInside(a, b, c, depth))
+      {
+        ++told;
+        wrong += deep > depth;
+      }
+    }
+    EXPECT_EQ(wrong, 0u);
+    EXPECT_GT(told, 300u);   // most triangles no curve reaches into are told
+    EXPECT_GT(reached, 50u); // and the sample holds triangles a curve reaches into
+  }
+  // What the cells cannot tell: no grid, a NaN corner, a depth of zero, a side of length zero,
+  // a box of more than 64 cells.
+  const strata::SegmentGrid grid(s.a, s.b, size / 512.0, std::size_t(1) << 22);
+  const Vec2 a = s.box.min, b = a + Vec2{ 1e-3 * size, 0.0 }, c = a + Vec2{ 0.0, 1e-3 * size };
+  EXPECT_TRUE(grid.noneInside(
+    a - Vec2{ size, size }, b - Vec2{ size, size }, c - Vec2{ size, size }, 1e-6 * size));
+  EXPECT_FALSE(strata::SegmentGrid({}, {}, 1.0, 100).noneInside(a, b, c, 1e-6 * size));
+  EXPECT_FALSE(grid.noneInside({ std::numeric_limits<double>::quiet_NaN(), 0.0 }, b, c, 1.0));
+  EXPECT_FALSE(grid.noneInside(a, b, c, 0.0));
+  EXPECT_FALSE(grid.noneInside(a, a, c, 1e-6 * size));
+  EXPECT_FALSE(grid.noneInside(
+    s.box.min, s.box.min + Vec2{ size, 0.0 }, s.box.min + Vec2{ 0.0, size }, 1e-6 * size));
+}
+
 TEST(StripTreeTest, segment_grid_answers_as_the_tree_on_degenerate_layouts)
 {
   // Collinear runs, duplicated segments (ties everywhere near them), a zero-length segment, a
