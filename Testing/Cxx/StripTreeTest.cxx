@@ -837,8 +837,8 @@ TEST(StripTreeTest, segment_grid_none_inside_only_when_no_segment_reaches_that_d
     EXPECT_GT(told, 300u);   // most triangles no curve reaches into are told
     EXPECT_GT(reached, 50u); // and the sample holds triangles a curve reaches into
   }
-  // What the cells cannot tell: no grid, a NaN corner, a depth of zero, a side of length zero,
-  // a box of more than 64 cells.
+  // A triangle beside the grid (which holds every segment): none. What the cells cannot tell:
+  // no grid, a NaN corner, a depth of zero, a side of length zero, a box of more than 64 cells.
   const strata::SegmentGrid grid(s.a, s.b, size / 512.0, std::size_t(1) << 22);
   const Vec2 a = s.box.min, b = a + Vec2{ 1e-3 * size, 0.0 }, c = a + Vec2{ 0.0, 1e-3 * size };
   EXPECT_TRUE(grid.noneInside(
