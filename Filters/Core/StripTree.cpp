@@ -721,6 +721,14 @@ int SegmentGrid::cellOf(double v, double lo, int count) const
   return c >= count ? count : static_cast<int>(c);
 }
 
+SegmentGrid::CellRange SegmentGrid::cellsUnder(double xlo, double xhi, double ylo, double yhi) const
+{
+  return { std::max(0, this->cellOf(xlo, this->Origin.x, this->Nx)),
+    std::min(this->Nx - 1, this->cellOf(xhi, this->Origin.x, this->Nx)),
+    std::max(0, this->cellOf(ylo, this->Origin.y, this->Ny)),
+    std::min(this->Ny - 1, this->cellOf(yhi, this->Origin.y, this->Ny)) };
+}
+
 bool SegmentGrid::noneWithin(Vec2 p, double r) const
 {
   const double reach = r * (1.0 + 1e-9);
@@ -729,10 +737,8 @@ bool SegmentGrid::noneWithin(Vec2 p, double r) const
   {
     return false;
   }
-  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
-  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
-  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
-  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  const auto [i0, i1, j0, j1] =
+    this->cellsUnder(p.x - reach, p.x + reach, p.y - reach, p.y + reach);
   return this->emptyCells(i0, i1, j0, j1) == 1;
 }
 
@@ -786,10 +792,8 @@ bool SegmentGrid::smallestValue(Vec2 p,
   {
     return false;
   }
-  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
-  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
-  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
-  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  const auto [i0, i1, j0, j1] =
+    this->cellsUnder(p.x - reach, p.x + reach, p.y - reach, p.y + reach);
   double least = std::numeric_limits<double>::infinity();
   if (i0 <= i1 && j0 <= j1)
   {
@@ -868,10 +872,7 @@ bool SegmentGrid::noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const
   };
   const double xmin = std::min({ a.x, b.x, c.x }), xmax = std::max({ a.x, b.x, c.x });
   const double ymin = std::min({ a.y, b.y, c.y }), ymax = std::max({ a.y, b.y, c.y });
-  const int i0 = std::max(0, this->cellOf(xmin, this->Origin.x, this->Nx));
-  const int i1 = std::min(this->Nx - 1, this->cellOf(xmax, this->Origin.x, this->Nx));
-  const int j0 = std::max(0, this->cellOf(ymin, this->Origin.y, this->Ny));
-  const int j1 = std::min(this->Ny - 1, this->cellOf(ymax, this->Origin.y, this->Ny));
+  const auto [i0, i1, j0, j1] = this->cellsUnder(xmin, xmax, ymin, ymax);
   if (i0 > i1 || j0 > j1)
   {
     return true; // beside the grid, which holds every segment
@@ -908,10 +909,8 @@ bool SegmentGrid::scan(Vec2 p, double r, bool ties, NearestSegment& nearest) con
   double best2 = r * r;
   int bestSeg = -1;
   double bestT = 0.0;
-  const int i0 = std::max(0, this->cellOf(p.x - reach, this->Origin.x, this->Nx));
-  const int i1 = std::min(this->Nx - 1, this->cellOf(p.x + reach, this->Origin.x, this->Nx));
-  const int j0 = std::max(0, this->cellOf(p.y - reach, this->Origin.y, this->Ny));
-  const int j1 = std::min(this->Ny - 1, this->cellOf(p.y + reach, this->Origin.y, this->Ny));
+  const auto [i0, i1, j0, j1] =
+    this->cellsUnder(p.x - reach, p.x + reach, p.y - reach, p.y + reach);
   if (i0 <= i1 && j0 <= j1)
   {
     // Scanned when at most 64 cells, else only told empty.

@@ -114,6 +114,13 @@ private:
 
   // Cell index of coordinate v along an axis starting at lo, clamped to [-1, count].
   int cellOf(double v, double lo, int count) const;
+  // The cells [i0, i1] x [j0, j1] under the box [xlo, xhi] x [ylo, yhi], clipped to the grid
+  // (an empty range for a box beside it).
+  struct CellRange
+  {
+    int i0, i1, j0, j1;
+  };
+  CellRange cellsUnder(double xlo, double xhi, double ylo, double yhi) const;
   int emptyCells(int i0, int i1, int j0, int j1) const;
 
   std::vector<Vec2> A, B;
