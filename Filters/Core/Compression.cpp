@@ -742,9 +742,10 @@ double Compressor::gridDistance(int g, StripTreeScratch& rail)
 void Compressor::choosePushes()
 {
   const std::size_t np = this->Grid.points.size();
-  this->Candidate.assign(np, 0);
-  this->Push.assign(np, 0);
-  this->Distance.assign(np, std::numeric_limits<double>::quiet_NaN());
+  // (Room for the optimization's splits, here and below: see withRoom().)
+  withRoom(this->Candidate, np).assign(np, 0);
+  withRoom(this->Push, np).assign(np, 0);
+  withRoom(this->Distance, np).assign(np, std::numeric_limits<double>::quiet_NaN());
   if (this->Grid.pointBoundaryDistance.size() == np)
   {
     this->Distance = this->Grid.pointBoundaryDistance;
@@ -786,8 +787,8 @@ void Compressor::choosePushes()
 void Compressor::placeJunctions()
 {
   const std::size_t np = this->Grid.points.size();
-  this->JunctionOf.assign(np, -1);
-  this->JunctionTarget.assign(np, -1);
+  withRoom(this->JunctionOf, np).assign(np, -1);
+  withRoom(this->JunctionTarget, np).assign(np, -1);
   if (this->TheModel.junctions.empty())
   {
     return;
@@ -976,7 +977,8 @@ void Compressor::buildSubMesh()
   this->Progress.report(this->At, this->Stage);
   sortSpatially(active, this->Points);
   this->Progress.report(this->At, this->Stage);
-  this->LocalOf.assign(np, -1);
+  withRoom(this->LocalOf, np).assign(np, -1);
+  withRoom(this->Global, np); // (np: its size is known once the halo is in)
   for (int g : active)
   {
     this->LocalOf[g] = static_cast<int>(this->Global.size());
@@ -984,6 +986,7 @@ void Compressor::buildSubMesh()
   }
   this->NumActive = static_cast<int>(this->Global.size());
   LargeVector<int> localTri(nt, -1);
+  withRoom(this->TriGlobal, nt); // (nt: as Global's)
   for (int g : active)
   {
     this->poll(static_cast<std::size_t>(&g - active.data()));
@@ -1008,8 +1011,8 @@ void Compressor::buildSubMesh()
   }
   const std::size_t nl = this->TriGlobal.size();
   const bool levels = this->Grid.triangleLevel.size() == nt;
-  this->Tri.resize(nl);
-  this->Level.resize(nl);
+  withRoom(this->Tri, nl).resize(nl);
+  withRoom(this->Level, nl).resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
     const std::array<int, 3>& g = this->Grid.triangles[this->TriGlobal[t]];
@@ -1019,7 +1022,7 @@ void Compressor::buildSubMesh()
   // Neighbours across each edge k (from corner k to corner k + 1): a local triangle, -1 for
   // the domain border, -2 - (grid triangle id) for a triangle outside the sub-mesh.
   // (Each triangle writes its own slots: blocks of triangles, each block's halves at once.)
-  this->Nbr.assign(nl, { -1, -1, -1 });
+  withRoom(this->Nbr, nl).assign(nl, { -1, -1, -1 });
   blockwise(
     nl,
     kTwoThreadBlock / 4, // (their stars' reads are slow: up to 0.12 s per 65536 at 1 M)
@@ -1053,7 +1056,7 @@ void Compressor::buildSubMesh()
   // Spring edges (each edge once; both triangles of an edge share its id).
   LargeVector<std::array<int, 2>> edges;
   edges.reserve(3 * nl / 2 + 3);
-  this->TriEdge.assign(nl, { -1, -1, -1 });
+  withRoom(this->TriEdge, nl).assign(nl, { -1, -1, -1 });
   for (std::size_t t = 0; t < nl; ++t)
   {
     this->poll(t);
@@ -1079,14 +1082,15 @@ void Compressor::buildSubMesh()
     }
   }
   const std::size_t nv = this->Global.size();
-  LargeVector<Vec2> x(nv), rest(nv);
+  LargeVector<Vec2> x, rest(nv);
+  withRoom(x, nv).resize(nv); // (the spring system's positions)
   for (std::size_t i = 0; i < nv; ++i)
   {
     x[i] = this->Points[this->Global[i]];
     rest[i] = this->Grid.points[this->Global[i]];
   }
-  this->RestTwice.resize(nl);
-  this->MinTwice.resize(nl);
+  withRoom(this->RestTwice, nl).resize(nl);
+  withRoom(this->MinTwice, nl).resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
     this->poll(t);
@@ -1111,16 +1115,16 @@ void Compressor::buildSubMesh()
   this->Progress.report(this->At, this->Stage);
 
   // States.
-  this->St.assign(nv, Halo);
-  this->Target.assign(nv, Vec2{});
-  this->Loc.assign(nv, Location{});
+  withRoom(this->St, nv).assign(nv, Halo);
+  withRoom(this->Target, nv).assign(nv, Vec2{});
+  withRoom(this->Loc, nv).assign(nv, Location{});
   this->Progress.report(this->At, this->Stage);
-  this->FirstTarget.assign(nv, Location{});
-  this->PinOnArrival.assign(nv, 0);
-  this->Stuck.assign(nv, 0);
-  this->Retargets.assign(nv, 0);
-  this->PushSteps.assign(nv, 0);
-  this->Budget.assign(nv, 0);
+  withRoom(this->FirstTarget, nv).assign(nv, Location{});
+  withRoom(this->PinOnArrival, nv).assign(nv, 0);
+  withRoom(this->Stuck, nv).assign(nv, 0);
+  withRoom(this->Retargets, nv).assign(nv, 0);
+  withRoom(this->PushSteps, nv).assign(nv, 0);
+  withRoom(this->Budget, nv).assign(nv, 0);
   this->Claimed.assign(this->TheModel.nodes.size(), 0);
   for (std::size_t i = 0; i < nv; ++i)
   {
@@ -1812,6 +1816,7 @@ void Compressor::flip(int t, int k)
   const int eAB = this->TriEdge[t][k], eBC = this->TriEdge[t][(k + 1) % 3];
   const int eCA = this->TriEdge[t][(k + 2) % 3];
   const int eAD = this->TriEdge[u][(j + 1) % 3], eDB = this->TriEdge[u][(j + 2) % 3];
+  ++this->Flips;
   this->Flipped.push_back(t);
   this->Flipped.push_back(u);
   if (!this->MovedAll)
@@ -2293,7 +2298,7 @@ int Compressor::faceTag(int t)
 void Compressor::classifyFaces()
 {
   const std::size_t nv = this->Global.size();
-  this->VRegion.resize(nv);
+  withRoom(this->VRegion, nv).resize(nv);
   for (std::size_t i = 0; i < nv; ++i)
   {
     if (i % 8192 == 0)
@@ -2302,7 +2307,7 @@ void Compressor::classifyFaces()
     }
     this->VRegion[i] = this->vertexRegion(static_cast<int>(i));
   }
-  this->Tag.resize(this->Tri.size());
+  withRoom(this->Tag, this->Tri.size()).resize(this->Tri.size());
   for (std::size_t t = 0; t < this->Tri.size(); ++t)
   {
     if (t % 8192 == 0)
@@ -2387,7 +2392,7 @@ void Compressor::writeBack()
 void Compressor::run()
 {
   Clock::time_point t0 = Clock::now();
-  this->Points = this->Grid.points;
+  withRoom(this->Points, this->Grid.points.size()) = this->Grid.points;
   this->Progress.report(0.0, this->Stage);
   this->buildGlobalStars();
   this->choosePushes();
@@ -2411,7 +2416,7 @@ void Compressor::run()
     this->At = 0.8;
     this->Stage = "optimizing the mesh";
     this->Progress.report(this->At, this->Stage);
-    this->H.resize(this->Global.size());
+    withRoom(this->H, this->Global.size()).resize(this->Global.size());
     for (std::size_t i = 0; i < this->H.size(); ++i)
     {
       this->H[i] = this->Sys->localLength(static_cast<int>(i));
@@ -2486,13 +2491,20 @@ CompressionResult compress(const TriangleMesh& grid,
     }
   }
   CompressionResult result;
-  result.points = grid.points;
+  // (With room for the optimization's splits: see withRoom().)
+  withRoom(result.points, np) = grid.points;
   result.firstInsertedPoint = np;
-  result.triangles = grid.triangles;
-  result.triangleLevel =
-    grid.triangleLevel.size() == nt ? grid.triangleLevel : LargeVector<int>(nt, 0);
-  result.triangleRegion = classification.cellRegion;
-  result.vertexState.assign(np, VertexUntouched);
+  withRoom(result.triangles, nt) = grid.triangles;
+  if (grid.triangleLevel.size() == nt)
+  {
+    withRoom(result.triangleLevel, nt) = grid.triangleLevel;
+  }
+  else
+  {
+    withRoom(result.triangleLevel, nt).assign(nt, 0);
+  }
+  withRoom(result.triangleRegion, nt) = classification.cellRegion;
+  withRoom(result.vertexState, np).assign(np, VertexUntouched);
   if (nt == 0 || model.empty())
   {
     result.warnings.push_back("compress: nothing to compress (empty mesh or model)");

@@ -6,6 +6,7 @@
 
 #include "Compression.h"
 #include "LargeArray.h"
+#include "Parallel.h"
 
 #include <algorithm>
 #include <array>
@@ -181,7 +182,10 @@ private:
     double deviation = -1.0;     // largest distance of a chain point between them to the edge
     int farthest = -1;           // that chain point
   };
-  std::vector<Location> locationsOf(int i) const;
+  // Calls f(location) for each location of curve vertex i on the chains: its own, or at a
+  // model node, the node's on every chain through it (without a list in the usual case).
+  template<typename F>
+  void forEachLocation(int i, F&& f) const;
   ChainPiece boundaryPiece(int t, int k) const;
   Location pieceMiddle(const ChainPiece& piece) const;
   // The two faces across edge k of face t: t = (a, b, c) and u = Nbr[t][k] = (b, a, d), the
@@ -223,24 +227,65 @@ private:
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
   // Calls act(t, k, piece) for every boundary edge out of tolerance among the faces present
   // at the call (each edge once); act returns true when it changed face t, whose other edges
-  // are then skipped. Returns how many calls returned true.
+  // are then skipped. Returns how many calls returned true. `found` (kept by the caller
+  // between calls) holds which faces had such an edge when the mesh was last seen unchanged:
+  // filled here when empty (on two threads for a large mesh: deviatingEdge only reads),
+  // emptied when an act changes the mesh (returns true, or flips edges and returns false).
+  // Only the faces found are looked at until the first change; from there on, every face
+  // (the change may put later faces' edges out of tolerance). So the faces visited and the
+  // edges acted on are those of a sweep over every face.
   template<typename Act>
-  std::size_t forEachDeviatingEdge(Act&& act)
+  std::size_t forEachDeviatingEdge(LargeVector<std::uint8_t>& found, Act&& act)
   {
     std::size_t changed = 0;
     const int nt = static_cast<int>(this->Tri.size());
+    if (found.size() != static_cast<std::size_t>(nt))
+    {
+      found.assign(static_cast<std::size_t>(nt), 0);
+      blockwise(
+        static_cast<std::size_t>(nt),
+        kTwoThreadBlock,
+        kTwoThreadItems,
+        [&](std::size_t from, std::size_t to, int)
+        {
+          ChainPiece scratch;
+          for (std::size_t t = from; t < to; ++t)
+          {
+            const int ti = static_cast<int>(t);
+            found[t] = this->deviatingEdge(ti, 0, nt, scratch) ||
+              this->deviatingEdge(ti, 1, nt, scratch) || this->deviatingEdge(ti, 2, nt, scratch);
+          }
+        },
+        [&] { this->Progress.report(this->At, this->Stage); });
+    }
+    bool every = false;
     ChainPiece piece;
     for (int t = 0; t < nt; ++t)
     {
       this->poll(static_cast<std::size_t>(t));
+      if (!every && !found[static_cast<std::size_t>(t)])
+      {
+        continue;
+      }
       for (int k = 0; k < 3; ++k)
       {
-        if (this->deviatingEdge(t, k, nt, piece) && act(t, k, piece))
+        if (!this->deviatingEdge(t, k, nt, piece))
+        {
+          continue;
+        }
+        const std::size_t flipsBefore = this->Flips;
+        const bool acted = act(t, k, piece);
+        every = every || acted || this->Flips != flipsBefore;
+        if (acted)
         {
           ++changed;
           break;
         }
       }
+    }
+    if (every)
+    {
+      found.clear();
     }
     return changed;
   }
@@ -364,6 +409,7 @@ private:
   LargeVector<int> BadFaces, BadVertices;
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
+  std::size_t Flips = 0; // flip() calls so far
 };
 
 } // namespace detail

@@ -495,15 +495,20 @@ std::size_t Compressor::smooth()
 
 // Rail locations of curve vertex i: its own, or every location of the chain point it is on
 // (a junction lies on several chains).
-std::vector<BoundaryRails::Location> Compressor::locationsOf(int i) const
+template<typename F>
+void Compressor::forEachLocation(int i, F&& f) const
 {
   const Location& l = this->Loc[i];
   const int point = this->Rails.pointAt(l);
-  if (point >= 0)
+  if (point < 0)
   {
-    return this->Rails.locationsOfNode(this->Rails.chain(l.chain).nodes[point]);
+    f(l);
+    return;
   }
-  return { l };
+  for (const Location& at : this->Rails.locationsOfNode(this->Rails.chain(l.chain).nodes[point]))
+  {
+    f(at);
+  }
 }
 
 // The chain piece that edge k of face t (between two faces of different regions, both ends on
@@ -515,64 +520,66 @@ Compressor::ChainPiece Compressor::boundaryPiece(int t, int k) const
   const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
   const auto& x = this->Sys->positions();
-  for (const Location& la : this->locationsOf(a))
-  {
-    for (const Location& lb : this->locationsOf(b))
+  this->forEachLocation(a,
+    [&](const Location& la)
     {
-      if (la.chain != lb.chain)
-      {
-        continue;
-      }
-      const BoundaryRails::Chain& c = this->Rails.chain(la.chain);
-      const int n = static_cast<int>(c.numberOfSegments());
-      const double sa = la.segment + la.t, sb = lb.segment + lb.t;
-      for (const bool forward : { true, false })
-      {
-        // Walking a -> b along the chain, face t (left of a -> b) must be on the walk's left.
-        const int left = forward ? c.left : c.right, right = forward ? c.right : c.left;
-        if (this->Tag[t] != left || this->Tag[u] != right)
+      this->forEachLocation(b,
+        [&](const Location& lb)
         {
-          continue;
-        }
-        double travel = forward ? sb - sa : sa - sb;
-        if (c.closed)
-        {
-          travel = std::fmod(travel + n, static_cast<double>(n));
-        }
-        if (!(travel > 0.0))
-        {
-          continue;
-        }
-        ChainPiece piece;
-        piece.chain = la.chain;
-        piece.from = sa;
-        piece.to = sb;
-        piece.forward = forward;
-        piece.deviation = 0.0;
-        // Chain points strictly between the two ends (at most a bounded number of them).
-        const double first = forward ? std::floor(sa) + 1.0 : std::ceil(sa) - 1.0;
-        for (int step = 0; step < 100000; ++step)
-        {
-          const double s = forward ? first + step : first - step;
-          if ((forward ? s - sa : sa - s) >= travel)
+          if (la.chain != lb.chain)
           {
-            break;
+            return;
           }
-          const int p = ((static_cast<int>(s) % n) + n) % n + (!c.closed && s == n ? n : 0);
-          const double d = std::sqrt(pointSegmentDistance2(c.points[p], x[a], x[b]));
-          if (d > piece.deviation)
+          const BoundaryRails::Chain& c = this->Rails.chain(la.chain);
+          const int n = static_cast<int>(c.numberOfSegments());
+          const double sa = la.segment + la.t, sb = lb.segment + lb.t;
+          for (const bool forward : { true, false })
           {
-            piece.deviation = d;
-            piece.farthest = p;
+            // Walking a -> b along the chain, face t (left of a -> b) must be on the walk's left.
+            const int left = forward ? c.left : c.right, right = forward ? c.right : c.left;
+            if (this->Tag[t] != left || this->Tag[u] != right)
+            {
+              continue;
+            }
+            double travel = forward ? sb - sa : sa - sb;
+            if (c.closed)
+            {
+              travel = std::fmod(travel + n, static_cast<double>(n));
+            }
+            if (!(travel > 0.0))
+            {
+              continue;
+            }
+            ChainPiece piece;
+            piece.chain = la.chain;
+            piece.from = sa;
+            piece.to = sb;
+            piece.forward = forward;
+            piece.deviation = 0.0;
+            // Chain points strictly between the two ends (at most a bounded number of them).
+            const double first = forward ? std::floor(sa) + 1.0 : std::ceil(sa) - 1.0;
+            for (int step = 0; step < 100000; ++step)
+            {
+              const double s = forward ? first + step : first - step;
+              if ((forward ? s - sa : sa - s) >= travel)
+              {
+                break;
+              }
+              const int p = ((static_cast<int>(s) % n) + n) % n + (!c.closed && s == n ? n : 0);
+              const double d = std::sqrt(pointSegmentDistance2(c.points[p], x[a], x[b]));
+              if (d > piece.deviation)
+              {
+                piece.deviation = d;
+                piece.farthest = p;
+              }
+            }
+            if (best.deviation < 0.0 || piece.deviation < best.deviation)
+            {
+              best = piece;
+            }
           }
-        }
-        if (best.deviation < 0.0 || piece.deviation < best.deviation)
-        {
-          best = piece;
-        }
-      }
-    }
-  }
+        });
+    });
   return best;
 }
 
@@ -1323,10 +1330,11 @@ std::size_t Compressor::refineBoundary()
   }
   this->detach();
   std::size_t splits = 0;
+  LargeVector<std::uint8_t> deviating; // (see forEachDeviatingEdge())
   for (int round = 0; round < 8; ++round)
   {
     // Splits at the farthest curve point, or at the middle of the curve piece.
-    const std::size_t now = this->forEachDeviatingEdge(
+    const std::size_t now = this->forEachDeviatingEdge(deviating,
       [&](int t, int k, const ChainPiece& piece)
       {
         const Location far = this->farthestLocation(piece);
@@ -1352,7 +1360,7 @@ std::size_t Compressor::refineBoundary()
     {
       this->updateStars();
     }
-    const std::size_t pulled = this->forEachDeviatingEdge(
+    const std::size_t pulled = this->forEachDeviatingEdge(deviating,
       [&](int t, int k, const ChainPiece& piece)
       {
         const Location far = this->farthestLocation(piece);

@@ -61,3 +61,28 @@ TEST(LargeArrayTest, AnImpossibleRequestThrowsBadAlloc)
   LargeVector<char> v;
   EXPECT_THROW(v.reserve(std::size_t(1) << 62), std::exception);
 }
+
+TEST(LargeArrayTest, WithRoomGrowsInPlaceUpToASixteenthMore)
+{
+  // A working array filled to n items, then grown by splits: no move within the room.
+  const std::size_t n = std::size_t(1) << 20;
+  LargeVector<double> v;
+  strata::withRoom(v, n).assign(n, 2.5);
+  EXPECT_EQ(v.size(), n);
+  EXPECT_GE(v.capacity(), n + n / 16);
+  const double* before = v.data();
+  for (std::size_t i = 0; i < n / 16; ++i)
+  {
+    v.push_back(static_cast<double>(i));
+  }
+  EXPECT_EQ(v.data(), before);
+  EXPECT_DOUBLE_EQ(v[n - 1], 2.5);
+  EXPECT_DOUBLE_EQ(v.back(), static_cast<double>(n / 16 - 1));
+  // Small arrays get at least 1024 items of room; a copy into the room keeps it (a move would
+  // take the other array's buffer instead).
+  const LargeVector<int> seven(10, 7);
+  LargeVector<int> small;
+  strata::withRoom(small, 10) = seven;
+  EXPECT_GE(small.capacity(), 10u + 1024u);
+  EXPECT_EQ(small[9], 7);
+}
