@@ -548,7 +548,8 @@ bool restrainAccepts(const LargeVector<Vec2>& points,
   int starSize,
   int i,
   Vec2 to,
-  const double* minTwiceArea)
+  const double* minTwiceArea,
+  double minFraction)
 {
   for (int s = 0; s < starSize; ++s)
   {
@@ -563,7 +564,7 @@ bool restrainAccepts(const LargeVector<Vec2>& points,
     {
       return false;
     }
-    if (minTwiceArea && after < minTwiceArea[t])
+    if (minTwiceArea && after < minFraction * minTwiceArea[t])
     {
       const double before = cross(b - a, points[i] - a);
       if (after < before)
@@ -1090,13 +1091,11 @@ void Compressor::buildSubMesh()
     rest[i] = this->Grid.points[this->Global[i]];
   }
   withRoom(this->RestTwice, nl).resize(nl);
-  withRoom(this->MinTwice, nl).resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
     this->poll(t);
     const std::array<int, 3>& tri = this->Tri[t];
     this->RestTwice[t] = orient2d(rest[tri[0]], rest[tri[1]], rest[tri[2]]);
-    this->MinTwice[t] = kCollapse * this->RestTwice[t];
   }
   SpringParams sp;
   sp.configuration = this->Params.springConfiguration;
@@ -1108,7 +1107,7 @@ void Compressor::buildSubMesh()
   sm.edges = std::move(edges);
   this->Progress.report(this->At, this->Stage);
   this->Sys = std::make_unique<SpringSystem>(
-    std::move(sm), std::move(x), rest, sp, this->Progress.sub(this->At, this->At));
+    std::move(sm), std::move(x), std::move(rest), sp, this->Progress.sub(this->At, this->At));
   this->Progress.report(this->At, this->Stage);
   this->rebuildStars();
   // (Reports between the arrays too: at 1 M their first writes took up to 0.2 s together.)
@@ -1159,7 +1158,7 @@ void Compressor::buildSubMesh()
     {
       this->St[i] = Pushing;
       this->Loc[i] = this->FirstTarget[i] =
-        this->Rails.closest(this->Sys->positions()[i], this->RailScratch);
+        this->Rails.closest(this->positions()[i], this->RailScratch);
       this->Target[i] = this->Rails.position(this->Loc[i]);
       const int point = this->Rails.pointAt(this->Loc[i]);
       this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
@@ -1333,7 +1332,7 @@ bool Compressor::nearClaimedStop(const Location& l, double reach) const
 void Compressor::claimStopPoints()
 {
   std::vector<std::pair<double, int>> order;
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   for (int i = 0; i < this->NumActive; ++i)
   {
     if (this->St[i] == Pushing && !this->junctionBound(i))
@@ -1382,7 +1381,7 @@ void Compressor::spreadTargets()
         ? a.l.chain < b.l.chain
         : (a.l.segment != b.l.segment ? a.l.segment < b.l.segment : a.l.t < b.l.t);
     });
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   for (std::size_t k = 1; k < items.size(); ++k)
   {
     const int a = items[k - 1].vertex, b = items[k].vertex;
@@ -1403,8 +1402,7 @@ void Compressor::setBudget(int i)
   const double step = this->Params.pushVelocity * this->Params.timeStep * this->Sys->localLength(i);
   this->PushSteps[i] = 0;
   this->Budget[i] =
-    static_cast<int>(std::ceil(norm(this->Target[i] - this->Sys->positions()[i]) / step)) +
-    kStuckSteps;
+    static_cast<int>(std::ceil(norm(this->Target[i] - this->positions()[i]) / step)) + kStuckSteps;
 }
 
 // Aims pushed vertex i half an edge length (one edge length after two retargets) beside its
@@ -1412,7 +1410,7 @@ void Compressor::setBudget(int i)
 // avoiding taken stop points.
 void Compressor::retarget(int i)
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const double h = 0.5 * this->Sys->localLength(i) * (1 + this->Retargets[i] / 2);
   const Location now = this->Rails.closest(x[i], this->RailScratch);
   bool found = false;
@@ -1470,7 +1468,7 @@ void Compressor::startPush(int i, const Location& target)
 // Simulation.
 void Compressor::pushStep(int i, double dt)
 {
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   const Vec2 d = this->Target[i] - x[i];
   const double remaining = norm(d);
   const double h = this->Sys->localLength(i);
@@ -1490,7 +1488,7 @@ void Compressor::pushStep(int i, double dt)
         const std::array<int, 3>& tri = this->Tri[t];
         const int k = tri[0] == i ? 0 : (tri[1] == i ? 1 : 2);
         const Vec2 a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
-        if (cross(b - a, to - a) < this->MinTwice[t])
+        if (cross(b - a, to - a) < kCollapse * this->RestTwice[t])
         {
           this->Blocked.push_back({ t, (k + 1) % 3 });
         }
@@ -1526,7 +1524,7 @@ void Compressor::pushStep(int i, double dt)
 
 void Compressor::railStep(int i, double dt)
 {
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   // First-order motion along the rail: the vertex moves by dt^2 F_t / m_i (the step the
   // particle would make from rest), with no momentum. With the stable mass m_i this is at
   // most half the step to the equilibrium of its springs along the rail, so the rails settle
@@ -1584,7 +1582,7 @@ void Compressor::railStep(int i, double dt)
 // criterion picks the end to push.
 std::size_t Compressor::pushNewCrossings()
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const std::size_t nv = x.size();
   const auto crossable = [&](int a, int b)
   {
@@ -1793,7 +1791,7 @@ bool Compressor::flipValid(int t, int k) const
   {
     return false;
   }
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3], c = this->Tri[t][(k + 2) % 3];
   const std::array<int, 3>& tu = this->Tri[u];
   const int j = tu[0] == b ? 0 : (tu[1] == b ? 1 : 2);
@@ -1851,8 +1849,6 @@ void Compressor::flip(int t, int k)
   }
   this->RestTwice[t] = this->twiceArea(t);
   this->RestTwice[u] = this->twiceArea(u);
-  this->MinTwice[t] = kCollapse * this->RestTwice[t];
-  this->MinTwice[u] = kCollapse * this->RestTwice[u];
   this->Level[t] = this->Level[u] = std::max(this->Level[t], this->Level[u]);
 }
 
@@ -1865,7 +1861,7 @@ bool Compressor::tryFlip(int t, int k, bool degenerate)
   {
     return false;
   }
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const Quad q = this->quadOf(t, k);
   const int u = q.u, a = q.a, b = q.b, c = q.c, d = q.d;
   const double before = std::min(minAngleSine(x[a], x[b], x[c]), minAngleSine(x[b], x[a], x[d]));
@@ -1892,7 +1888,7 @@ std::size_t Compressor::flipDegenerate()
   }
   static const double smallSine = std::sin(kSmallAngle * 3.14159265358979323846 / 180.0);
   std::size_t flips = 0;
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const auto degenerate = [&](std::size_t t)
   {
     const std::array<int, 3>& tri = this->Tri[t];
@@ -2005,7 +2001,7 @@ std::size_t Compressor::unblockPushes()
 // Returns the number of moving particles.
 std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart, const std::vector<int>& pushed)
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const std::size_t nv = x.size();
   LargeVector<std::uint8_t> awake(nv, 0);
   std::size_t moving = 0;
@@ -2084,7 +2080,7 @@ void Compressor::simulate()
   const int n = this->NumActive;
   int settled = 0, waves = 0, it = 0;
   bool wasPushing = true;
-  LargeVector<Vec2> windowStart = this->Sys->positions();
+  LargeVector<Vec2> windowStart = this->positions();
   // The pushed vertices, increasing (a push starts only in the waves, when it is rebuilt).
   std::vector<int> pushed;
   const auto findPushed = [&]()
@@ -2112,10 +2108,9 @@ void Compressor::simulate()
       {
         continue; // (a push another one ended)
       }
-      const Vec2 before = this->Sys->positions()[i];
+      const Vec2 before = this->positions()[i];
       this->pushStep(i, dt);
-      largest =
-        std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
+      largest = std::max(largest, norm(this->positions()[i] - before) / this->Sys->localLength(i));
       pushing |= this->St[i] == Pushing && ++this->PushSteps[i] < this->Budget[i];
     }
     pushed.erase(std::remove_if(
@@ -2147,10 +2142,10 @@ void Compressor::simulate()
         const int i = awake ? (*awake)[j] : static_cast<int>(j);
         if (i < n && this->St[i] == Rail)
         {
-          const Vec2 before = this->Sys->positions()[i];
+          const Vec2 before = this->positions()[i];
           this->railStep(i, dt);
           largest =
-            std::max(largest, norm(this->Sys->positions()[i] - before) / this->Sys->localLength(i));
+            std::max(largest, norm(this->positions()[i] - before) / this->Sys->localLength(i));
         }
       }
     }
@@ -2197,7 +2192,7 @@ int Compressor::vertexRegion(int i, StripTreeScratch& rail, DistanceField::Scrat
     return kOnCurve;
   }
   const int g = this->Global[i];
-  const Vec2 x = this->Sys->positions()[i];
+  const Vec2 x = this->positions()[i];
   if (this->Cls.vertexClass[g] != VertexBoundary &&
     this->movedLessThanGridDistance(g, norm(x - this->Grid.points[g]), rail))
   {
@@ -2242,7 +2237,7 @@ bool Compressor::movedLessThanGridDistance(int g, double moved, StripTreeScratch
 // settle the distances within two cells of the curves).
 void Compressor::buildCurveCells()
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   std::vector<double> longest;
   for (std::size_t t = 0; t < this->Tri.size(); t += 16)
   {
@@ -2290,7 +2285,7 @@ int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
 
 int Compressor::faceTag(int t)
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const std::array<int, 3>& tri = this->Tri[t];
   return this->faceTag(tri[0], tri[1], tri[2], x[tri[0]], x[tri[1]], x[tri[2]]);
 }
@@ -2337,7 +2332,7 @@ void Compressor::writeBack()
     this->poll(t);
     this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
   }
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   for (std::size_t i = 0; i < this->Global.size(); ++i)
   {
     this->Result.points[this->Global[i]] = x[i];

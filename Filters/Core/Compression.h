@@ -229,15 +229,18 @@ std::size_t flipDegenerateTriangles(const LargeVector<Vec2>& points,
 
 /// Whether moving vertex `i` of a counter-clockwise triangle list to `to` keeps every
 /// triangle of `star` (ids of triangles containing i) counter-clockwise with twice-area at
-/// least min(minTwiceArea[t], its current twice-area) and > 0: the paper's restrain test
-/// (6.3), with two cross products per (vertex, opposite edge) pair.
+/// least min(minFraction * minTwiceArea[t], its current twice-area) and > 0: the paper's
+/// restrain test (6.3), with two cross products per (vertex, opposite edge) pair. (With
+/// minTwiceArea the rest twice-areas and minFraction the share of them to keep, no array of
+/// the bounds is needed.)
 bool restrainAccepts(const LargeVector<Vec2>& points,
   const LargeVector<std::array<int, 3>>& triangles,
   const int* star,
   int starSize,
   int i,
   Vec2 to,
-  const double* minTwiceArea = nullptr);
+  const double* minTwiceArea = nullptr,
+  double minFraction = 1.0);
 
 } // namespace strata
 

@@ -151,7 +151,7 @@ private:
   {
     const int g = this->Global[i];
     const double d = this->Distance[g];
-    return std::isnan(d) ? 0.0 : d - norm(this->Sys->positions()[i] - this->Grid.points[g]);
+    return std::isnan(d) ? 0.0 : d - norm(this->positions()[i] - this->Grid.points[g]);
   }
   std::size_t flipDegenerate();
   std::size_t unblockPushes();
@@ -208,7 +208,7 @@ private:
   // The four faces made by splitting that edge at w: (a, w, c), (w, b, c), (b, w, d), (w, a, d).
   std::array<std::array<Vec2, 3>, 4> splitFaces(const Quad& q, Vec2 w) const
   {
-    const auto& x = this->Sys->positions();
+    const auto& x = this->positions();
     return {
       { { x[q.a], w, x[q.c] }, { w, x[q.b], x[q.c] }, { x[q.b], w, x[q.d] }, { w, x[q.a], x[q.d] } }
     };
@@ -300,23 +300,24 @@ private:
   bool accepts(int i, Vec2 to) const
   {
     const int s0 = this->StarStart[i];
-    return restrainAccepts(this->Sys->positions(),
+    return restrainAccepts(this->positions(),
       this->Tri,
       this->StarItems.data() + s0,
       this->StarStart[i + 1] - s0,
       i,
       to,
-      this->MinTwice.data());
+      this->RestTwice.data(),
+      kCollapse);
   }
   double twiceArea(int t) const
   {
-    const auto& x = this->Sys->positions();
+    const auto& x = this->positions();
     return orient2d(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
   bool onCurve(int i) const { return this->St[i] == Rail || this->St[i] == Pinned; }
   double triMinAngleSine(int t) const
   {
-    const auto& x = this->Sys->positions();
+    const auto& x = this->positions();
     return minAngleSine(x[this->Tri[t][0]], x[this->Tri[t][1]], x[this->Tri[t][2]]);
   }
   void writeBack();
@@ -367,7 +368,7 @@ private:
   int NumActive = 0;        // local ids below are simulated
   LargeVector<std::array<int, 3>> Tri, Nbr, TriEdge;
   LargeVector<int> TriGlobal, Level, Tag;
-  LargeVector<double> RestTwice, MinTwice;
+  LargeVector<double> RestTwice; // twice the rest area (restrain: keep kCollapse of it)
   LargeVector<int> StarStart, StarItems;
   // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
   // updateStars() (marks, and the buffer the new items are written to, swapped with StarItems)
@@ -387,7 +388,14 @@ private:
   LargeVector<int> FlippedSinceTest;
   void noteMoved(); // the awake set's particles may have moved since flipDegenerate's test
   std::size_t StarTriangles = 0;
-  std::unique_ptr<SpringSystem> Sys;
+  std::unique_ptr<SpringSystem> Sys; // (none once detached: the positions are taken to X)
+  LargeVector<Vec2> X;               // the positions once detached
+  // The positions: the spring system's until detach(), then X.
+  LargeVector<Vec2>& positions() { return this->Sys ? this->Sys->positions() : this->X; }
+  const LargeVector<Vec2>& positions() const
+  {
+    return this->Sys ? this->Sys->positions() : this->X;
+  }
 
   // Per local vertex.
   LargeVector<std::uint8_t> St;

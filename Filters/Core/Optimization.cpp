@@ -103,7 +103,7 @@ std::vector<int> Compressor::offCurveBoundaryVertices() const
 // opposite i flipped (when valid) and the move is tried again.
 bool Compressor::placeOnCurve(int i, const Location& target, double minFraction)
 {
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   const Vec2 goal = this->Rails.position(target);
   for (int attempt = 0; attempt < 3; ++attempt)
   {
@@ -116,7 +116,7 @@ bool Compressor::placeOnCurve(int i, const Location& target, double minFraction)
       const Vec2 a = x[tri[(k + 1) % 3]], b = x[tri[(k + 2) % 3]];
       const double after = cross(b - a, goal - a);
       if (!(after > 0.0) ||
-        (after < minFraction * this->MinTwice[t] && after < cross(b - a, x[i] - a)))
+        (after < minFraction * (kCollapse * this->RestTwice[t]) && after < cross(b - a, x[i] - a)))
       {
         blocking.push_back({ t, (k + 1) % 3 });
       }
@@ -163,7 +163,7 @@ std::size_t Compressor::snapBoundaryVertices()
       {
         continue; // halo vertices do not move
       }
-      const Vec2 xv = this->Sys->positions()[v];
+      const Vec2 xv = this->positions()[v];
       const double h = this->H[v];
       // Candidate places: the closest point (or the junction a push was heading for), the
       // push target, and half and a quarter of an edge length beside them; nearest first.
@@ -225,8 +225,8 @@ std::size_t Compressor::snapBoundaryVertices()
           ring.end(),
           [&](int a, int b)
           {
-            return norm2(this->Sys->positions()[a] - this->Target[v]) <
-              norm2(this->Sys->positions()[b] - this->Target[v]);
+            return norm2(this->positions()[a] - this->Target[v]) <
+              norm2(this->positions()[b] - this->Target[v]);
           });
         for (int w : ring)
         {
@@ -337,7 +337,7 @@ std::size_t Compressor::optimizeFlips()
 
 double Compressor::starMinAngle(int i, Vec2 p) const
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   double m = 1.0;
   for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
   {
@@ -353,7 +353,7 @@ std::size_t Compressor::smooth()
 {
   static const double skipSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   std::size_t moves = 0;
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   for (const int& i : this->BadVertices)
   {
     this->pollEach(static_cast<std::size_t>(&i - this->BadVertices.data()));
@@ -519,7 +519,7 @@ Compressor::ChainPiece Compressor::boundaryPiece(int t, int k) const
   ChainPiece best;
   const int u = this->Nbr[t][k];
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   this->forEachLocation(a,
     [&](const Location& la)
     {
@@ -687,7 +687,7 @@ bool Compressor::splitBoundaryEdge(int t, int k, const Location& at, bool pin)
 // the regions of the faces they come from. The caller checked that all four are valid.
 void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Location& at, int region)
 {
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   const Quad q = this->quadOf(t, k);
   const int u = q.u, j = q.j, a = q.a, b = q.b, c = q.c, d = q.d;
   // The new vertex.
@@ -753,12 +753,10 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
     this->Level.push_back(this->Level[added.second]);
     this->Tag.push_back(this->Tag[added.second]);
     this->RestTwice.push_back(0.0);
-    this->MinTwice.push_back(0.0);
   }
   for (const int f : { t, u, t2, u2 })
   {
     this->RestTwice[f] = this->twiceArea(f);
-    this->MinTwice[f] = kCollapse * this->RestTwice[f];
   }
 }
 
@@ -769,12 +767,12 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
 bool Compressor::followsCurves(int i, Vec2 p, const Location& l)
 {
   static const double poorSine = std::sin(kPoorAngle * 3.14159265358979323846 / 180.0);
-  if (!this->Detached || this->starMinAngle(i, this->Sys->positions()[i]) < poorSine)
+  if (!this->Detached || this->starMinAngle(i, this->positions()[i]) < poorSine)
   {
     return true;
   }
   // Relative deviation of the worst boundary edge at i (0 when none is out of tolerance).
-  auto& x = this->Sys->positions();
+  auto& x = this->positions();
   const auto worst = [&]()
   {
     double w = 0.0;
@@ -817,7 +815,7 @@ bool Compressor::deviatingEdge(int t, int k, int nt, ChainPiece& piece) const
     return false;
   }
   piece = this->boundaryPiece(t, k);
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   return piece.farthest >= 0 &&
     piece.deviation > this->Params.boundaryTolerance * norm(x[b] - x[a]);
 }
@@ -840,7 +838,7 @@ BoundaryRails::Location Compressor::farthestLocation(const ChainPiece& piece) co
 bool Compressor::pullIntoBulge(int t, int k, const Location& far)
 {
   static const double floorSine = std::sin(15.0 * 3.14159265358979323846 / 180.0);
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const int a = this->Tri[t][k], b = this->Tri[t][(k + 1) % 3];
   const Vec2 w = this->Rails.position(far);
   const Quad q = this->quadOf(t, k);
@@ -883,9 +881,16 @@ bool Compressor::pullIntoBulge(int t, int k, const Location& far)
 }
 
 // From here on the springs no longer follow the mesh (no more simulation): vertices and
-// faces may be added.
+// faces may be added. The spring system goes, but for its positions (its springs, velocities,
+// forces and copy of the mesh: 130 MB at 1 M triangles, which the optimization's arrays and
+// the refinement's then reuse instead of new memory).
 void Compressor::detach()
 {
+  if (this->Sys)
+  {
+    this->X = std::move(this->Sys->positions());
+    this->Sys.reset();
+  }
   this->Detached = true;
   if (this->FirstAdded == std::numeric_limits<int>::max())
   {
@@ -904,7 +909,7 @@ std::size_t Compressor::refineAngles()
 {
   static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
   this->detach();
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const int nt = static_cast<int>(this->Tri.size());
   const std::size_t budget = this->Tri.size() / 10 + 16;
   std::size_t added = 0;
@@ -1075,7 +1080,7 @@ bool Compressor::insidePiece(const ChainPiece& piece, const Location& l) const
 // region boundary does not change: the faces around i all had one region.
 bool Compressor::collapseInto(int i, int v)
 {
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   const int si0 = this->StarStart[i], si1 = this->StarStart[i + 1];
   const int sv0 = this->StarStart[v], sv1 = this->StarStart[v + 1];
   std::array<int, 2> f{ -1, -1 };
@@ -1211,14 +1216,13 @@ bool Compressor::collapseInto(int i, int v)
       w = w == i ? v : w;
     }
     this->RestTwice[t] = this->twiceArea(t);
-    this->MinTwice[t] = kCollapse * this->RestTwice[t];
   }
   for (const int t : f)
   {
     this->Tri[t] = { i, i, i };
     this->Nbr[t] = { -1, -1, -1 };
     this->Tag[t] = -1;
-    this->RestTwice[t] = this->MinTwice[t] = 0.0;
+    this->RestTwice[t] = 0.0;
   }
   this->St[i] = Halo;
   return true;
@@ -1231,7 +1235,7 @@ bool Compressor::collapseInto(int i, int v)
 std::size_t Compressor::collapseSqueezed()
 {
   static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
-  const auto& x = this->Sys->positions();
+  const auto& x = this->positions();
   std::vector<std::uint8_t> touched(this->Global.size(), 0);
   std::size_t collapsed = 0;
   for (const int& i : this->BadVertices)

@@ -504,13 +504,13 @@ std::vector<std::unique_ptr<SpringSet>> makeSpringSets(SpringConfiguration confi
 //------------------------------------------------------------------------------
 SpringSystem::SpringSystem(SpringMesh mesh,
   LargeVector<Vec2> positions,
-  const LargeVector<Vec2>& rest,
+  LargeVector<Vec2> rest,
   const SpringParams& params,
   const ProgressReporter& progress)
   : Params(params)
   , Mesh(std::move(mesh))
   , X(std::move(positions))
-  , Rest(rest)
+  , Rest(std::move(rest))
 {
   validate(params);
   const std::size_t n = this->X.size();

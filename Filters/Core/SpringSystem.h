@@ -228,7 +228,7 @@ public:
   /// the springs, which take about 0.05 s each at a million triangles.
   SpringSystem(SpringMesh mesh,
     LargeVector<Vec2> positions,
-    const LargeVector<Vec2>& rest,
+    LargeVector<Vec2> rest,
     const SpringParams& params = {},
     const ProgressReporter& progress = ProgressReporter());
   /// Rest lengths from the initial positions.
