@@ -1090,6 +1090,11 @@ void Compressor::buildSubMesh()
     x[i] = this->Points[this->Global[i]];
     rest[i] = this->Grid.points[this->Global[i]];
   }
+  // The set-up's own arrays go (22 MB at 1 M): the spring system's, next, take their memory
+  // instead of new memory (see LargeArray.h).
+  this->Points = LargeVector<Vec2>();
+  this->GStarStart = LargeVector<int>();
+  this->GStarItems = LargeVector<int>();
   withRoom(this->RestTwice, nl).resize(nl);
   for (std::size_t t = 0; t < nl; ++t)
   {
@@ -2322,8 +2327,34 @@ void Compressor::retagStar(int i)
   }
 }
 
+void fillFromGrid(CompressionResult& result, const TriangleMesh& grid)
+{
+  const std::size_t np = grid.points.size(), nt = grid.triangles.size();
+  withRoom(result.points, np) = grid.points;
+  withRoom(result.triangles, nt) = grid.triangles;
+  if (grid.triangleLevel.size() == nt)
+  {
+    withRoom(result.triangleLevel, nt) = grid.triangleLevel;
+  }
+  else
+  {
+    withRoom(result.triangleLevel, nt).assign(nt, 0);
+  }
+  withRoom(result.vertexState, np).assign(np, VertexUntouched);
+}
+
+void Compressor::fillResult()
+{
+  if (!this->ResultFilled)
+  {
+    fillFromGrid(this->Result, this->Grid);
+    this->ResultFilled = true;
+  }
+}
+
 void Compressor::writeBack()
 {
+  this->fillResult();
   // Faces outside the simulated zone did not move and no boundary crosses their edges (their
   // corners are no candidates), so their corners lie in one region: they take it, even when
   // a whole island smaller than the face lies inside (aliasing, paper 6.6).
@@ -2387,7 +2418,7 @@ void Compressor::writeBack()
 void Compressor::run()
 {
   Clock::time_point t0 = Clock::now();
-  withRoom(this->Points, this->Grid.points.size()) = this->Grid.points;
+  this->Points = this->Grid.points;
   this->Progress.report(0.0, this->Stage);
   this->buildGlobalStars();
   this->choosePushes();
@@ -2486,22 +2517,13 @@ CompressionResult compress(const TriangleMesh& grid,
     }
   }
   CompressionResult result;
-  // (With room for the optimization's splits: see withRoom().)
-  withRoom(result.points, np) = grid.points;
+  // (With room for the optimization's splits: see withRoom(). The other arrays are filled
+  // from the grid by the compressor when it needs them, fillFromGrid().)
   result.firstInsertedPoint = np;
-  withRoom(result.triangles, nt) = grid.triangles;
-  if (grid.triangleLevel.size() == nt)
-  {
-    withRoom(result.triangleLevel, nt) = grid.triangleLevel;
-  }
-  else
-  {
-    withRoom(result.triangleLevel, nt).assign(nt, 0);
-  }
   withRoom(result.triangleRegion, nt) = classification.cellRegion;
-  withRoom(result.vertexState, np).assign(np, VertexUntouched);
   if (nt == 0 || model.empty())
   {
+    detail::fillFromGrid(result, grid);
     result.warnings.push_back("compress: nothing to compress (empty mesh or model)");
     return result;
   }

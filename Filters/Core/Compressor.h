@@ -68,6 +68,10 @@ enum State : std::uint8_t
   Pinned   // on a junction or feature point
 };
 
+// The result's points, triangles, levels (0 without the grid's) and vertex states
+// (VertexUntouched) as the grid has them, with room for the optimization's splits.
+void fillFromGrid(CompressionResult& result, const TriangleMesh& grid);
+
 // The simulated sub-mesh and everything done to it.
 class Compressor
 {
@@ -343,7 +347,9 @@ private:
   Guard TheGuard;
 
   // Global mesh (grid ids).
-  LargeVector<Vec2> Points; // positions before the simulation (junctions snapped)
+  // The set-up's (freed at its end): the positions before the simulation (junctions snapped)
+  // and the grid's vertex stars.
+  LargeVector<Vec2> Points;
   LargeVector<int> GStarStart, GStarItems;
   LargeVector<std::uint8_t> Candidate, Push;
   LargeVector<double> Distance; // boundary distance (NaN: not computed)
@@ -417,6 +423,11 @@ private:
   LargeVector<int> BadFaces, BadVertices;
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
+  // Result's points, triangles, levels and vertex states are copied from the grid only when
+  // needed (fillResult(): at detach() or writeBack(), on memory the spring system left) and
+  // updated there; its triangle regions from the start (neighbourTag()).
+  void fillResult();
+  bool ResultFilled = false;
   std::size_t Flips = 0; // flip() calls so far
 };
 

@@ -698,7 +698,6 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
   this->Result.points.push_back(w);
   this->Result.vertexState.push_back(
     state == Pinned ? VertexPinned : (state == Rail ? VertexOnCurve : VertexFree));
-  this->Points.push_back(w);
   this->Candidate.push_back(0);
   this->Push.push_back(0);
   this->Distance.push_back(0.0);
@@ -891,6 +890,7 @@ void Compressor::detach()
     this->X = std::move(this->Sys->positions());
     this->Sys.reset();
   }
+  this->fillResult(); // (the splits append to it)
   this->Detached = true;
   if (this->FirstAdded == std::numeric_limits<int>::max())
   {
