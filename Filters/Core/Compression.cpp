@@ -746,10 +746,13 @@ void Compressor::choosePushes()
   // (Room for the optimization's splits, here and below: see withRoom().)
   withRoom(this->Candidate, np).assign(np, 0);
   withRoom(this->Push, np).assign(np, 0);
-  withRoom(this->Distance, np).assign(np, std::numeric_limits<double>::quiet_NaN());
   if (this->Grid.pointBoundaryDistance.size() == np)
   {
-    this->Distance = this->Grid.pointBoundaryDistance;
+    withRoom(this->Distance, np) = this->Grid.pointBoundaryDistance;
+  }
+  else
+  {
+    withRoom(this->Distance, np).assign(np, std::numeric_limits<double>::quiet_NaN());
   }
   for (std::size_t e = 0; e < this->Cls.edges.size(); ++e)
   {
