@@ -378,7 +378,8 @@ constexpr double kDeviationBound = 0.5;
 // across, or the disc of that diameter touching the point, shrunk by this fraction, is cut.
 constexpr double kNarrowMargin = 0.1;
 constexpr int kDeviationSamples = 512;   // curve -> mesh samples per model segment, at most
-constexpr int kDeviationJump = 32;       // ... of which one stretch skips at most this many
+constexpr int kDeviationJump = 128;      // ... of which one stretch skips at most this many
+constexpr int kChainEdges = 64;          // ... the bound along a boundary curve, this many edges
 constexpr std::size_t kMaxMisses = 1024; // MesherResult::boundaryMisses, at most
 constexpr double kMissSpacing = 2.0;     // ... about this many local edges apart
 // ThinLayerRetry's second mesh after a boundary miss only: the thin layer refinement within
@@ -1940,19 +1941,20 @@ MesherResult triangulateOnce(const RawPolylines& input,
       return false;
     };
     // Whether the curves' point nearest p is beside a region narrower than the finest edge.
-    const auto nearNarrow = [&](Vec2 p)
+    const auto nearNarrow = [&](Vec2 p, StripTreeScratch& heap)
     {
-      const auto l = rails.closest(p, scratch);
+      const auto l = rails.closest(p, heap);
       if (l.chain < 0)
       {
         return false;
       }
       const Vec2 x = rails.position(l), u = rails.tangent(l);
-      return narrow(x, Vec2{ -u.y, u.x }, finest, scratch) ||
-        narrow(x, Vec2{ u.y, -u.x }, finest, scratch);
+      return narrow(x, Vec2{ -u.y, u.x }, finest, heap) ||
+        narrow(x, Vec2{ u.y, -u.x }, finest, heap);
     };
     std::vector<Vec2> a, b;
-    std::vector<double> h; // localEdge of segment a -> b
+    std::vector<double> h;    // localEdge of segment a -> b
+    std::vector<int> curveOf; // ... and its boundary curve (in order along it: b[s] = a[s + 1])
     {
       std::size_t segments = 0;
       for (const MesherResult::BoundaryCurve& c : result.boundary)
@@ -1962,6 +1964,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
       a.reserve(segments);
       b.reserve(segments);
       h.reserve(segments);
+      curveOf.reserve(segments);
     }
     for (std::size_t ci = 0; ci < result.boundary.size(); ++ci)
     {
@@ -1973,24 +1976,86 @@ MesherResult triangulateOnce(const RawPolylines& input,
         a.push_back(c.points[i]);
         b.push_back(c.points[i + 1]);
         h.push_back(localEdge(ids[i], ids[i + 1]));
-        maxVertex = std::max(maxVertex, toCurves(c.points[i]));
-        for (double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
-        {
-          const Vec2 q = c.points[i] + f * (c.points[i + 1] - c.points[i]);
-          const double d = toCurves(q);
-          maxMeshToModel = std::max(maxMeshToModel, d);
-          // (the nearest curve point's region test only for a new largest or a miss)
-          if (h.back() > 0.0 && d > std::min(boundaryPart.relative, kDeviationBound) * h.back() &&
-            !nearNarrow(q))
-          {
-            boundaryPart.note(d, h.back(), q);
-          }
-        }
+        curveOf.push_back(static_cast<int>(ci));
       }
       if (!c.points.empty())
       {
         maxVertex = std::max(maxVertex, toCurves(c.points.back()));
       }
+    }
+    {
+      // The boundary's segments' starts and samples, on two threads (Parallel.h), each part
+      // with its largest distances, its largest relative deviation (d / e at `at`) and the
+      // deviations above kDeviationBound in order, merged in order after each block (as
+      // boundaryPart.note() would have taken them one by one).
+      struct MeshPart
+      {
+        StripTreeScratch heap;
+        double vertex = 0.0, mesh = 0.0;
+        double relative = 0.0, d = 0.0, e = 0.0;
+        Vec2 at;
+        std::vector<MesherResult::BoundaryMiss> above;
+      };
+      std::array<MeshPart, 2> meshParts;
+      blockwise(
+        a.size(),
+        kDeviationBlock,
+        kDeviationThreaded,
+        [&](std::size_t from, std::size_t to, int which)
+        {
+          MeshPart& part = meshParts[which];
+          for (std::size_t s = from; s < to; ++s)
+          {
+            part.vertex = std::max(part.vertex, toCurvesWith(a[s], part.heap));
+            for (double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
+            {
+              const Vec2 q = a[s] + f * (b[s] - a[s]);
+              const double d = toCurvesWith(q, part.heap);
+              part.mesh = std::max(part.mesh, d);
+              // (the nearest curve point's region test only for a new largest or a miss)
+              if (h[s] > 0.0 && d > std::min(part.relative, kDeviationBound) * h[s] &&
+                !nearNarrow(q, part.heap))
+              {
+                if (d > kDeviationBound * h[s])
+                {
+                  part.above.push_back({ q, h[s] });
+                }
+                if (d > part.relative * h[s])
+                {
+                  part.relative = d / h[s];
+                  part.d = d;
+                  part.e = h[s];
+                  part.at = q;
+                }
+              }
+            }
+          }
+        },
+        [&]
+        {
+          for (MeshPart& part : meshParts)
+          {
+            maxVertex = std::max(maxVertex, part.vertex);
+            maxMeshToModel = std::max(maxMeshToModel, part.mesh);
+            for (const MesherResult::BoundaryMiss& m : part.above)
+            {
+              boundaryPart.miss(m.at, m.edge);
+            }
+            part.above.clear();
+            if (part.e > 0.0 && part.d > boundaryPart.relative * part.e)
+            {
+              boundaryPart.relative = part.d / part.e;
+              boundaryPart.edge = part.e;
+              boundaryPart.at = part.at;
+            }
+          }
+          for (MeshPart& part : meshParts)
+          {
+            part.relative = boundaryPart.relative;
+            part.e = 0.0;
+          }
+          progress.report(kOutputProgress, "writing the mesh");
+        });
     }
     double maxModelToMesh = 0.0;
     if (!a.empty())
@@ -2122,7 +2187,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
           // A bound on the distance of the samples between samples u and v, L apart: it is
           // 1-Lipschitz along the segment, so none exceeds (u.d + v.d + L) / 2; and the
           // distance to a given boundary edge is convex along it, so none exceeds the larger
-          // of u's and v's distances to u's (or v's) nearest edge. When the bound is at most
+          // of u's and v's distances to u's (or v's) nearest edge, nor the bound along the
+          // boundary curve between those edges (chainBound). When the bound is at most
           // the largest deviation found so far and at most the relative bound relativeTo
           // applies (with the shortest local edge of the boundary edges that may be nearest
           // those samples: within the bound of them, or of the points relativeTo is given,
@@ -2130,6 +2196,34 @@ MesherResult triangulateOnce(const RawPolylines& input,
           // skipped. The stretch doubles after a skip (up to kDeviationJump samples) and
           // halves after a miss: what every sample in turn gives, with a few of them.
           const double margin = 1e-12 * (norm(p) + norm(r) + length);
+          // When the boundary edges nearest u and v (i and j) lie on one boundary curve, at
+          // most kChainEdges apart: a point c moving along that curve from u's nearest point
+          // (on edge i) to v's (on edge j), through the curve's vertices between, in step with
+          // a point x moving from u to v (c at a vertex when x is at the vertex's projection
+          // on uv, those projections made non-decreasing), is within the curve's distance of
+          // x; between two of those steps both move linearly, so |x - c| is convex there and
+          // at most its value at the steps' ends: the largest of those bounds every sample
+          // between u and v. (+infinity when they are not on one curve so near.)
+          const auto chainBound = [&](Vec2 pu, Vec2 pv, int i, int j)
+          {
+            if (i < 0 || j < 0 || curveOf[i] != curveOf[j] || std::abs(i - j) > kChainEdges)
+            {
+              return std::numeric_limits<double>::infinity();
+            }
+            const Vec2 uv = pv - pu;
+            const double uv2 = norm2(uv);
+            double largest2 = std::max(
+              pointSegmentDistance2(pu, a[i], b[i]), pointSegmentDistance2(pv, a[j], b[j]));
+            double at = 0.0; // x's parameter on uv at the last step
+            const int step = j > i ? 1 : -1;
+            for (int k = i; k != j; k += step)
+            {
+              const Vec2 w = step > 0 ? b[k] : a[k]; // the vertex between edges k and k + step
+              at = std::max(at, uv2 > 0.0 ? std::clamp(dot(w - pu, uv) / uv2, 0.0, 1.0) : 0.0);
+              largest2 = std::max(largest2, norm2(pu + at * uv - w));
+            }
+            return std::sqrt(largest2);
+          };
           const auto skippable = [&](const Part::Sample& u, const Part::Sample& v)
           {
             const double span = (v.j - u.j) * (length / m) * (1.0 + 1e-9) + margin;
@@ -2145,6 +2239,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
                     pointSegmentDistance2(pu, a[e], b[e]), pointSegmentDistance2(pv, a[e], b[e]))));
               }
             }
+            bound = std::min(bound, chainBound(pu, pv, u.segment, v.segment));
             bound = bound * (1.0 + 1e-9) + margin;
             if (!(bound <= std::max({ maxMeshToModel, maxVertex, partDistance[which] })))
             {

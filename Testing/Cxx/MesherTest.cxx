@@ -877,6 +877,128 @@ TEST(MesherTest, TheRelativeDeviationLeavesOutRegionsNarrowerThanTheFinestEdge)
   EXPECT_FALSE(r.summary.thinLayerMesh);
 }
 
+// Summary::maxBoundaryDeviation is the largest distance over every sample the output stage
+// measures, both ways: from each approximated boundary edge's start and 7 points between (and
+// each boundary curve's end) to the input curves; from each curve segment's
+// min(512, max(5, ceil(length / (finest edge / 4)))) + 1 evenly spaced points (and each open
+// curve's end) to the approximated boundary. The output stage skips the curve samples between
+// two whose bounds (the distance's Lipschitz and convexity bounds, and the bound along one
+// boundary curve, 2026-12-05) show they change nothing; here every sample is measured, by strip
+// trees, and the largest must be the same. On an island narrower than the finest edge, left
+// out of the mesh, the largest is in the middle of a long side, among the samples that may be
+// skipped (with the bound along one boundary curve taken as 0, this case fails).
+TEST(MesherTest, TheBoundaryDeviationIsTheLargestDistanceOverEverySample)
+{
+  struct Case
+  {
+    std::string name;
+    strata::RawPolylines raw;
+    strata::MesherParams params;
+    bool largestInside; // the largest distance is a curve sample's between a segment's ends
+  };
+  std::vector<Case> cases;
+  for (const char* file : { "pinch_out.vtp", "gulf_section.vtp", "lake_superior.vtp" })
+  {
+    cases.push_back({ file, strata_test::readVtpAscii(strata_test::dataPath(file)), {}, false });
+  }
+  {
+    // A lake of radius 30 (a 96-gon) in a box, an island 0.2 wide and 26 long across its
+    // middle: the island's long sides lie 16 and 18 units from the lake's shore at their ends,
+    // 30 near their middle. (The shore's own deviations come first, so that skips are allowed.)
+    Case island{ "thin island in a lake", {}, {}, true };
+    std::vector<Vec2> shore;
+    for (int k = 0; k < 96; ++k)
+    {
+      const double angle = 2.0 * 3.14159265358979323846 * k / 96;
+      shore.push_back({ 50.0 + 30.0 * std::cos(angle), 50.0 + 30.0 * std::sin(angle) });
+    }
+    const std::vector<Vec2> ring = { { 36, 50 }, { 62, 50 }, { 62, 50.2 }, { 36, 50.2 } };
+    strata_test::addClosedLoop(island.raw, { { 0, 0 }, { 100, 0 }, { 100, 100 }, { 0, 100 } }, 0);
+    strata_test::addClosedLoop(island.raw, shore, 0);
+    strata_test::addClosedLoop(island.raw, shore, 1);
+    strata_test::addClosedLoop(island.raw, ring, 1);
+    strata_test::addClosedLoop(island.raw, ring, 2);
+    island.params.grid.minEdgeLength = 2.0;
+    cases.push_back(std::move(island));
+  }
+  for (const Case& c : cases)
+  {
+    SCOPED_TRACE(c.name);
+    const strata::MesherResult r = strata::triangulate(c.raw, c.params);
+    const strata::Model model = strata::buildModel(c.raw);
+    const strata::BoundaryRails rails(model, 0.0);
+    std::vector<Vec2> ma, mb, ba, bb;
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const auto& chain = rails.chain(static_cast<int>(ci));
+      for (std::size_t i = 0; i < chain.numberOfSegments(); ++i)
+      {
+        ma.push_back(chain.points[i]);
+        mb.push_back(chain.points[(i + 1) % chain.points.size()]);
+      }
+    }
+    for (const auto& curve : r.boundary)
+    {
+      for (std::size_t i = 0; i + 1 < curve.points.size(); ++i)
+      {
+        ba.push_back(curve.points[i]);
+        bb.push_back(curve.points[i + 1]);
+      }
+    }
+    ASSERT_FALSE(ma.empty());
+    ASSERT_FALSE(ba.empty());
+    const strata::StripTree modelTree(ma, mb), meshTree(ba, bb);
+    strata::StripTreeScratch scratch;
+    const auto toCurves = [&](Vec2 x)
+    { return std::sqrt(modelTree.nearest(x, scratch).distance2); };
+    const auto toMesh = [&](Vec2 x) { return std::sqrt(meshTree.nearest(x, scratch).distance2); };
+    double meshSide = 0.0, curveSide = 0.0, curveEnds = 0.0;
+    for (const auto& curve : r.boundary)
+    {
+      for (std::size_t i = 0; i + 1 < curve.points.size(); ++i)
+      {
+        const Vec2 a = curve.points[i], b = curve.points[i + 1];
+        meshSide = std::max(meshSide, toCurves(a));
+        for (const double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
+        {
+          meshSide = std::max(meshSide, toCurves(a + f * (b - a)));
+        }
+      }
+      if (!curve.points.empty())
+      {
+        meshSide = std::max(meshSide, toCurves(curve.points.back()));
+      }
+    }
+    const double finest = r.summary.finestEdgeLength;
+    for (std::size_t s = 0; s < ma.size(); ++s)
+    {
+      const int m = static_cast<int>(std::min<double>(
+        512.0, std::max(5.0, std::ceil(strata::norm(mb[s] - ma[s]) / (0.25 * finest)))));
+      for (int j = 0; j <= m; ++j)
+      {
+        const double d = toMesh(ma[s] + (static_cast<double>(j) / m) * (mb[s] - ma[s]));
+        curveSide = std::max(curveSide, d);
+        curveEnds = j == 0 || j == m ? std::max(curveEnds, d) : curveEnds;
+      }
+    }
+    for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+    {
+      const auto& chain = rails.chain(static_cast<int>(ci));
+      if (!chain.closed && !chain.points.empty())
+      {
+        curveSide = std::max(curveSide, toMesh(chain.points.back()));
+        curveEnds = std::max(curveEnds, toMesh(chain.points.back()));
+      }
+    }
+    EXPECT_NEAR(
+      r.summary.maxBoundaryDeviation, std::max(meshSide, curveSide), 1e-12 * model.size());
+    if (c.largestInside)
+    {
+      EXPECT_GT(curveSide, std::max(meshSide, 1.5 * curveEnds));
+    }
+  }
+}
+
 // lake_superior at MaxLevel 6 (the paper's count): made once (ThinLayerRetry off) it keeps a
 // 25.6-degree triangle; by default that mesh misses MinimumAngle, so it is made again with
 // the thin layer refinement, which meets it, and that one is kept. A mesh that meets the
