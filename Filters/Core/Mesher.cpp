@@ -549,7 +549,7 @@ double finestEdgeLength(const Grid48& grid, const MesherParams& params)
 // they settle it, else the rails' strip tree. The last point asked is remembered (the
 // refinement asks about a triangle's centroid several times in a row). Each thread asks its
 // own (scratch and memory), so the answers do not depend on which one asks.
-struct CurveQuery
+struct alignas(64) CurveQuery // (each on cache lines of its own: two threads ask two)
 {
   CurveQuery(const BoundaryRails& curves,
     const SegmentGrid& curveCells,
@@ -1821,8 +1821,9 @@ MesherResult triangulateOnce(const RawPolylines& input,
     // edge (they cannot be represented): the curve points beside one left out, and of the
     // mesh's boundary only the deviations longer than the finest edge.
     // Per sampling part (the mesh's boundary; the curves' two halves, on two threads, each
-    // with its scratch), merged in order: the same on any machine.
-    struct Part
+    // with its scratch), merged in order: the same on any machine. (Each on cache lines of its
+    // own: the threads write their parts at every sample.)
+    struct alignas(64) Part
     {
       StripTreeScratch heap;
       // A curve sample: its index on its segment, distance to the mesh's boundary, nearest
@@ -1836,6 +1837,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
       std::vector<Sample> ahead;
       double relative = 0.0, edge = 0.0; // the largest relative deviation, its local edge
       Vec2 at;                           // ... and where
+      double distance = 0.0;             // the largest distance (the curves' parts)
       // The places above kDeviationBound, one per stretch of about kMissSpacing local edges.
       std::vector<MesherResult::BoundaryMiss> misses;
       void miss(Vec2 p, double e)
@@ -1988,7 +1990,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
       // with its largest distances, its largest relative deviation (d / e at `at`) and the
       // deviations above kDeviationBound in order, merged in order after each block (as
       // boundaryPart.note() would have taken them one by one).
-      struct MeshPart
+      struct alignas(64) MeshPart
       {
         StripTreeScratch heap;
         double vertex = 0.0, mesh = 0.0;
@@ -2069,7 +2071,6 @@ MesherResult triangulateOnce(const RawPolylines& input,
         positiveEdge[s] = h[s] > 0.0 ? h[s] : std::numeric_limits<double>::infinity();
       }
       // The curves' samples, on two threads (Parallel.h), each part with its largest distance.
-      std::array<double, 2> partDistance = { 0.0, 0.0 };
       // The distance from p to the mesh's boundary, and the boundary's edge nearest p (-1 when
       // the cells cannot tell).
       const auto toMesh = [&](Vec2 p, Part& part, int& segment)
@@ -2137,7 +2138,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           if (segments[e].second < 0)
           {
             const double d = toMesh(c.points.back(), part, segment);
-            partDistance[which] = std::max(partDistance[which], d);
+            part.distance = std::max(part.distance, d);
             const Vec2 p = n > 1 ? c.points[n - 2] : c.points.back(), r = c.points.back();
             const double length = norm(r - p);
             if (length > 0.0)
@@ -2178,7 +2179,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           const auto take = [&](const Part::Sample& s)
           {
             const double f = static_cast<double>(s.j) / m;
-            partDistance[which] = std::max(partDistance[which], s.d);
+            part.distance = std::max(part.distance, s.d);
             if (length > 0.0)
             {
               relativeTo(p + (f + 1e-4 * (0.5 - f)) * (r - p), normal, s.d, s.segment, part);
@@ -2241,7 +2242,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
             }
             bound = std::min(bound, chainBound(pu, pv, u.segment, v.segment));
             bound = bound * (1.0 + 1e-9) + margin;
-            if (!(bound <= std::max({ maxMeshToModel, maxVertex, partDistance[which] })))
+            if (!(bound <= std::max({ maxMeshToModel, maxVertex, part.distance })))
             {
               return false;
             }
@@ -2290,7 +2291,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
         kDeviationThreaded,
         sample,
         [&] { progress.report(kOutputProgress, "writing the mesh"); });
-      maxModelToMesh = std::max({ maxModelToMesh, partDistance[0], partDistance[1] });
+      maxModelToMesh = std::max({ maxModelToMesh, parts[0].distance, parts[1].distance });
       for (const Part& part : parts)
       {
         if (part.relative > 0.0 && part.relative > boundaryPart.relative)

@@ -642,30 +642,48 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
   // those entries only. The edges' and the triangles' lists are independent: one thread each
   // (for large meshes), both in order. The live edges' ends are all the touched particles: a
   // live triangle has an awake corner, whose edges to the other two corners are live.
+  // (Each thread appends to a list of its own, the member's buffer swapped in and out: the
+  // members' ends share a cache line, which the two threads' appends took from each other.)
   const LargeVector<std::uint8_t>& awake = this->Awake;
   const auto liveEdges = [&]
   {
+    LargeVector<int> live, touched;
+    live.swap(this->LiveEdges);
+    touched.swap(this->Touched);
     for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)
     {
-      if (awake[this->Mesh.edges[e][0]] || awake[this->Mesh.edges[e][1]])
+      const std::array<int, 2>& ends = this->Mesh.edges[e];
+      if (awake[ends[0]] || awake[ends[1]])
       {
         this->LiveEdge[e] = 1;
-        this->LiveEdges.push_back(static_cast<int>(e));
-        this->touch(this->Mesh.edges[e]);
+        live.push_back(static_cast<int>(e));
+        for (const int i : ends)
+        {
+          if (!this->IsTouched[i])
+          {
+            this->IsTouched[i] = 1;
+            touched.push_back(i);
+          }
+        }
       }
     }
+    live.swap(this->LiveEdges);
+    touched.swap(this->Touched);
   };
   const auto liveTriangles = [&]
   {
+    LargeVector<int> live;
+    live.swap(this->LiveTriangles);
     for (std::size_t t = 0; t < this->Mesh.triangles.size(); ++t)
     {
       const std::array<int, 3>& tri = this->Mesh.triangles[t];
       if (awake[tri[0]] || awake[tri[1]] || awake[tri[2]])
       {
         this->LiveTriangle[t] = 1;
-        this->LiveTriangles.push_back(static_cast<int>(t));
+        live.push_back(static_cast<int>(t));
       }
     }
+    live.swap(this->LiveTriangles);
   };
   if (this->Mesh.triangles.size() < kTwoThreadItems)
   {

@@ -22,7 +22,9 @@ struct NearestSegment
 };
 
 /// Scratch memory of a query (the heap); reuse one per thread so queries do not allocate.
-struct StripTreeScratch
+/// (On cache lines of its own: a query writes it at every step, and a line it shared with
+/// what another thread reads, or with the other thread's scratch, went back and forth.)
+struct alignas(64) StripTreeScratch
 {
   std::vector<std::pair<double, int>> heap;
 };
