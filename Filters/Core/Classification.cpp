@@ -35,15 +35,19 @@
 //    distance, or the index), else a query at g.
 // The edge and face tests need no distance query at all; the queries are one per component,
 // one per boundary point and one per face whose barycentre is not connected to a corner.
+// Steps 2, 3's tests and 5 are independent per item: on large meshes each block's two halves
+// run at once (Parallel.h), each with its own index and scratch (the same results).
 #include "Classification.h"
 
 #include "Errors.h"
+#include "Parallel.h"
 #include "UnionFind.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <string>
 
 namespace strata
@@ -94,12 +98,49 @@ Classification classify(const TriangleMesh& mesh,
   }
   const double tol = c.boundaryTolerance;
   progress.report(0.0, "classifying the grid");
-  BoundaryIndex index(model);
-  DistanceField::Scratch scratch;
-  auto regionOf = [&](Vec2 p)
+  // The points', edges' and faces' tests run in two halves at once on large meshes
+  // (Parallel.h), each half with its own index (its queries keep stamps), scratch and count.
+  struct alignas(64) Part
   {
-    ++c.regionQueries;
-    return field.region(p, scratch);
+    explicit Part(const Model& model)
+      : index(model)
+    {
+    }
+    BoundaryIndex index;
+    DistanceField::Scratch scratch;
+    std::size_t queries = 0;
+  };
+  std::optional<Part> parts[2];
+  parts[0].emplace(model);
+  auto regionOf = [&](Vec2 p, Part& part)
+  {
+    ++part.queries;
+    return field.region(p, part.scratch);
+  };
+  // work(i, part) for i in [0, n), progress from `from` to `to` between blocks.
+  const auto sweep = [&](std::size_t n, double from, double to, auto&& work)
+  {
+    if (n >= kTwoThreadItems && !parts[1])
+    {
+      parts[1].emplace(model);
+    }
+    std::size_t done = 0;
+    blockwise(
+      n,
+      kTwoThreadBlock,
+      kTwoThreadItems,
+      [&](std::size_t begin, std::size_t end, int which)
+      {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+          work(i, *parts[which]);
+        }
+      },
+      [&]
+      {
+        done = std::min(n, done + kTwoThreadBlock);
+        progress.report(from + (to - from) * static_cast<double>(done) / n, "classifying the grid");
+      });
   };
   // Distance known from the grid, or NaN.
   auto knownDistance = [&](int i)
@@ -151,53 +192,58 @@ Classification classify(const TriangleMesh& mesh,
 
   // 2. Boundary points.
   c.vertexClass.assign(np, VertexExterior);
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    if (i % 16384 == 0)
+  sweep(np,
+    0.1,
+    0.2,
+    [&](std::size_t i, Part& part)
     {
-      progress.report(0.1 + 0.1 * static_cast<double>(i) / np, "classifying the grid");
-    }
-    const double d = knownDistance(static_cast<int>(i));
-    const bool boundary = std::isnan(d) ? index.nearPoint(mesh.points[i], tol) : d <= tol;
-    if (boundary)
-    {
-      c.vertexClass[i] = VertexBoundary;
-    }
-  }
+      const double d = knownDistance(static_cast<int>(i));
+      const bool boundary = std::isnan(d) ? part.index.nearPoint(mesh.points[i], tol) : d <= tol;
+      if (boundary)
+      {
+        c.vertexClass[i] = VertexBoundary;
+      }
+    });
 
-  // 3. Edges; union of the end points of the others.
+  // 3. Edges (the tests first); union of the end points of the others.
   c.edgeClass.assign(ne, EdgeExterior);
+  sweep(ne,
+    0.2,
+    0.5,
+    [&](std::size_t e, Part& part)
+    {
+      const int a = c.edges[e][0];
+      const int b = c.edges[e][1];
+      bool intersection = c.vertexClass[a] == VertexBoundary || c.vertexClass[b] == VertexBoundary;
+      if (!intersection)
+      {
+        const Vec2 pa = mesh.points[a];
+        const Vec2 pb = mesh.points[b];
+        const double da = knownDistance(a);
+        const double db = knownDistance(b);
+        // NaN compares false: unknown distances fall through to the index.
+        if (!((da - tol) + (db - tol) > norm(pb - pa)))
+        {
+          intersection = part.index.nearSegment(pa, pb, tol);
+        }
+      }
+      if (intersection)
+      {
+        c.edgeClass[e] = EdgeIntersection;
+      }
+    });
   LargeVector<int> parent(np);
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t e = 0; e < ne; ++e)
   {
-    if (e % 16384 == 0)
+    if (e % 65536 == 0)
     {
-      progress.report(0.2 + 0.4 * static_cast<double>(e) / ne, "classifying the grid");
+      progress.report(0.5 + 0.1 * static_cast<double>(e) / ne, "classifying the grid");
     }
-    const int a = c.edges[e][0];
-    const int b = c.edges[e][1];
-    bool intersection = c.vertexClass[a] == VertexBoundary || c.vertexClass[b] == VertexBoundary;
-    if (!intersection)
+    if (c.edgeClass[e] != EdgeIntersection)
     {
-      const Vec2 pa = mesh.points[a];
-      const Vec2 pb = mesh.points[b];
-      const double da = knownDistance(a);
-      const double db = knownDistance(b);
-      // NaN compares false: unknown distances fall through to the index.
-      if (!((da - tol) + (db - tol) > norm(pb - pa)))
-      {
-        intersection = index.nearSegment(pa, pb, tol);
-      }
-    }
-    if (intersection)
-    {
-      c.edgeClass[e] = EdgeIntersection;
-    }
-    else
-    {
-      const int ra = rootOf(parent, a);
-      const int rb = rootOf(parent, b);
+      const int ra = rootOf(parent, c.edges[e][0]);
+      const int rb = rootOf(parent, c.edges[e][1]);
       if (ra != rb)
       {
         parent[std::max(ra, rb)] = std::min(ra, rb);
@@ -215,13 +261,13 @@ Classification classify(const TriangleMesh& mesh,
     }
     if (c.vertexClass[i] == VertexBoundary)
     {
-      c.vertexRegion[i] = regionOf(mesh.points[i]);
+      c.vertexRegion[i] = regionOf(mesh.points[i], *parts[0]);
       continue;
     }
     const int root = rootOf(parent, static_cast<int>(i));
     if (root == static_cast<int>(i))
     {
-      c.vertexRegion[i] = regionOf(mesh.points[i]);
+      c.vertexRegion[i] = regionOf(mesh.points[i], *parts[0]);
     }
     else
     {
@@ -260,32 +306,36 @@ Classification classify(const TriangleMesh& mesh,
 
   // 5. Faces: region of the barycentre.
   c.cellRegion.assign(nt, -1);
-  for (std::size_t t = 0; t < nt; ++t)
+  sweep(nt,
+    0.7,
+    1.0,
+    [&](std::size_t t, Part& part)
+    {
+      const std::array<int, 3>& tri = mesh.triangles[t];
+      const Vec2 g =
+        (1.0 / 3.0) * (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]);
+      int region = -2;
+      for (int k = 0; k < 3 && region == -2; ++k)
+      {
+        const int v = tri[k];
+        if (c.vertexClass[v] != VertexBoundary && knownDistance(v) - tol > norm(g - mesh.points[v]))
+        {
+          region = c.vertexRegion[v];
+        }
+      }
+      for (int k = 0; k < 3 && region == -2; ++k)
+      {
+        const int v = tri[k];
+        if (c.vertexClass[v] != VertexBoundary && !part.index.nearSegment(mesh.points[v], g, tol))
+        {
+          region = c.vertexRegion[v];
+        }
+      }
+      c.cellRegion[t] = region == -2 ? regionOf(g, part) : region;
+    });
+  for (const std::optional<Part>& part : parts)
   {
-    if (t % 16384 == 0)
-    {
-      progress.report(0.7 + 0.3 * static_cast<double>(t) / nt, "classifying the grid");
-    }
-    const std::array<int, 3>& tri = mesh.triangles[t];
-    const Vec2 g = (1.0 / 3.0) * (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]);
-    int region = -2;
-    for (int k = 0; k < 3 && region == -2; ++k)
-    {
-      const int v = tri[k];
-      if (c.vertexClass[v] != VertexBoundary && knownDistance(v) - tol > norm(g - mesh.points[v]))
-      {
-        region = c.vertexRegion[v];
-      }
-    }
-    for (int k = 0; k < 3 && region == -2; ++k)
-    {
-      const int v = tri[k];
-      if (c.vertexClass[v] != VertexBoundary && !index.nearSegment(mesh.points[v], g, tol))
-      {
-        region = c.vertexRegion[v];
-      }
-    }
-    c.cellRegion[t] = region == -2 ? regionOf(g) : region;
+    c.regionQueries += part ? part->queries : 0;
   }
   progress.report(1.0, "classifying the grid");
   return c;
