@@ -1195,31 +1195,66 @@ void Compressor::rebuildStars()
 {
   // (Progress between and within the steps: at 1 M the first writes to these arrays took up
   // to 0.4 s in all on a slow hour of this machine.)
-  const std::size_t nv = this->Global.size();
+  // On large meshes the triangles' two halves are counted and placed at once (a counting
+  // sort in two halves: each star lists the first half's triangles, then the second's, so in
+  // ascending order as one pass would).
+  const std::size_t nv = this->Global.size(), nt = this->Tri.size();
+  const bool two = nt >= kTwoThreadItems;
+  const std::size_t middle = two ? nt / 2 : nt;
   this->StarStart.assign(nv + 1, 0);
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  LargeVector<int> second(two ? nv : 0, 0); // the second half's count, then its next slot
+  const auto count = [&](std::size_t from, std::size_t to, int* counts)
   {
-    this->poll(t); // (t = 0: right after the assignment)
-    for (int v : this->Tri[t])
+    for (std::size_t t = from; t < to; ++t)
     {
-      ++this->StarStart[v + 1];
+      for (int v : this->Tri[t])
+      {
+        ++counts[v];
+      }
     }
+  };
+  this->Progress.report(this->At, this->Stage); // (right after the assignment)
+  if (two)
+  {
+    bothHalves([&] { count(0, middle, this->StarStart.data() + 1); },
+      [&] { count(middle, nt, second.data()); });
   }
+  else
+  {
+    count(0, nt, this->StarStart.data() + 1);
+  }
+  this->Progress.report(this->At, this->Stage);
+  std::vector<int> fill(nv);
   for (std::size_t i = 0; i < nv; ++i)
   {
-    this->StarStart[i + 1] += this->StarStart[i];
+    const int first = this->StarStart[i + 1];
+    this->StarStart[i + 1] = this->StarStart[i] + first + (two ? second[i] : 0);
+    fill[i] = this->StarStart[i];
+    if (two)
+    {
+      second[i] = this->StarStart[i] + first;
+    }
   }
   this->Progress.report(this->At, this->Stage);
   this->StarItems.resize(this->StarStart.back());
   this->Progress.report(this->At, this->Stage);
-  std::vector<int> fill(this->StarStart.begin(), this->StarStart.end() - 1);
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  const auto place = [&](std::size_t from, std::size_t to, int* next)
   {
-    this->poll(t);
-    for (int v : this->Tri[t])
+    for (std::size_t t = from; t < to; ++t)
     {
-      this->StarItems[fill[v]++] = static_cast<int>(t);
+      for (int v : this->Tri[t])
+      {
+        this->StarItems[next[v]++] = static_cast<int>(t);
+      }
     }
+  };
+  if (two)
+  {
+    bothHalves([&] { place(0, middle, fill.data()); }, [&] { place(middle, nt, second.data()); });
+  }
+  else
+  {
+    place(0, nt, fill.data());
   }
   this->Flipped.clear();
   this->StarTriangles = this->Tri.size();
@@ -1622,26 +1657,47 @@ std::size_t Compressor::pushNewCrossings()
       }
     }
   }
+  // (The faces by increasing id: each block's two halves at once, each into its own list.)
   LargeVector<std::array<int, 2>> faces; // (face, its free corner)
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
+  struct alignas(64) FacePart
   {
-    int freeCorner = -1, onCurve = 0;
-    for (int v : this->Tri[t])
+    LargeVector<std::array<int, 2>> faces;
+  };
+  FacePart faceParts[2];
+  blockwise(
+    this->Tri.size(),
+    kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t from, std::size_t to, int which)
     {
-      if (this->onCurve(v))
+      for (std::size_t t = from; t < to; ++t)
       {
-        ++onCurve;
+        int freeCorner = -1, onCurve = 0;
+        for (int v : this->Tri[t])
+        {
+          if (this->onCurve(v))
+          {
+            ++onCurve;
+          }
+          else if (this->St[v] == Free)
+          {
+            freeCorner = v;
+          }
+        }
+        if (onCurve == 2 && freeCorner >= 0)
+        {
+          faceParts[which].faces.push_back({ static_cast<int>(t), freeCorner });
+        }
       }
-      else if (this->St[v] == Free)
-      {
-        freeCorner = v;
-      }
-    }
-    if (onCurve == 2 && freeCorner >= 0)
+    },
+    [&]
     {
-      faces.push_back({ static_cast<int>(t), freeCorner });
-    }
-  }
+      for (FacePart& part : faceParts)
+      {
+        faces.insert(faces.end(), part.faces.begin(), part.faces.end());
+        part.faces.clear();
+      }
+    });
   if (unknown && !this->CurveCells)
   {
     this->buildCurveCells(); // (before the threads, which read it)
