@@ -1657,47 +1657,33 @@ std::size_t Compressor::pushNewCrossings()
       }
     }
   }
-  // (The faces by increasing id: each block's two halves at once, each into its own list.)
+  // (The faces by increasing id, on two threads.)
   LargeVector<std::array<int, 2>> faces; // (face, its free corner)
-  struct alignas(64) FacePart
-  {
-    LargeVector<std::array<int, 2>> faces;
-  };
-  FacePart faceParts[2];
-  blockwise(
+  gatherInOrder<std::array<int, 2>>(
     this->Tri.size(),
     kTwoThreadBlock,
     kTwoThreadItems,
-    [&](std::size_t from, std::size_t to, int which)
+    [&](std::size_t t, std::vector<std::array<int, 2>>& found)
     {
-      for (std::size_t t = from; t < to; ++t)
+      int freeCorner = -1, onCurve = 0;
+      for (int v : this->Tri[t])
       {
-        int freeCorner = -1, onCurve = 0;
-        for (int v : this->Tri[t])
+        if (this->onCurve(v))
         {
-          if (this->onCurve(v))
-          {
-            ++onCurve;
-          }
-          else if (this->St[v] == Free)
-          {
-            freeCorner = v;
-          }
+          ++onCurve;
         }
-        if (onCurve == 2 && freeCorner >= 0)
+        else if (this->St[v] == Free)
         {
-          faceParts[which].faces.push_back({ static_cast<int>(t), freeCorner });
+          freeCorner = v;
         }
+      }
+      if (onCurve == 2 && freeCorner >= 0)
+      {
+        found.push_back({ static_cast<int>(t), freeCorner });
       }
     },
-    [&]
-    {
-      for (FacePart& part : faceParts)
-      {
-        faces.insert(faces.end(), part.faces.begin(), part.faces.end());
-        part.faces.clear();
-      }
-    });
+    [&](const std::array<int, 2>& face) { faces.push_back(face); },
+    [] {});
   if (unknown && !this->CurveCells)
   {
     this->buildCurveCells(); // (before the threads, which read it)

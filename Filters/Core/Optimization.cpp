@@ -1307,48 +1307,32 @@ void Compressor::collectBad()
   this->BadFaces.clear();
   this->BadVertices.clear();
   std::vector<std::uint8_t> mark(this->Global.size(), 0);
-  // The faces' tests in blocks, each block's two halves at once (they only read), each half
-  // into its own list (on a cache line of its own); the lists taken in order after each block.
-  struct alignas(64) Part
-  {
-    std::vector<int> bad;
-  };
-  Part parts[2];
-  blockwise(
+  // (The faces' tests on two threads: they only read.)
+  gatherInOrder<int>(
     this->Tri.size(),
     kTwoThreadBlock,
     kTwoThreadItems,
-    [&](std::size_t from, std::size_t to, int which)
+    [&](std::size_t i, std::vector<int>& bad)
     {
-      for (std::size_t i = from; i < to; ++i)
+      const int t = static_cast<int>(i);
+      if (this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine)
       {
-        const int t = static_cast<int>(i);
-        if (this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine)
+        bad.push_back(t);
+      }
+    },
+    [&](int t)
+    {
+      this->BadFaces.push_back(t);
+      for (int v : this->Tri[t])
+      {
+        if (!mark[v])
         {
-          parts[which].bad.push_back(t);
+          mark[v] = 1;
+          this->BadVertices.push_back(v);
         }
       }
     },
-    [&]
-    {
-      for (Part& part : parts)
-      {
-        for (const int t : part.bad)
-        {
-          this->BadFaces.push_back(t);
-          for (int v : this->Tri[t])
-          {
-            if (!mark[v])
-            {
-              mark[v] = 1;
-              this->BadVertices.push_back(v);
-            }
-          }
-        }
-        part.bad.clear();
-      }
-      this->Progress.report(this->At, this->Stage);
-    });
+    [&] { this->Progress.report(this->At, this->Stage); });
   std::sort(this->BadVertices.begin(), this->BadVertices.end());
 }
 

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <system_error>
 #include <thread>
+#include <vector>
 
 namespace strata
 {
@@ -64,6 +65,48 @@ void blockwise(std::size_t n, std::size_t block, std::size_t threaded, Work&& wo
     }
     after();
   }
+}
+
+/// blockwise() for a loop that gathers items: pick(i, list) may append items of i to its
+/// part's list; after each block the parts' items go to take(item) in order (part 0's, then
+/// part 1's: in order of i, as one pass would give them), then after() runs. Each part's list
+/// sits on cache lines of its own (the threads write them at every item).
+template<class T, class Pick, class Take, class After>
+void gatherInOrder(std::size_t n,
+  std::size_t block,
+  std::size_t threaded,
+  Pick&& pick,
+  Take&& take,
+  After&& after)
+{
+  struct alignas(64) Part
+  {
+    std::vector<T> items;
+  };
+  Part parts[2];
+  blockwise(
+    n,
+    block,
+    threaded,
+    [&](std::size_t from, std::size_t to, int which)
+    {
+      for (std::size_t i = from; i < to; ++i)
+      {
+        pick(i, parts[which].items);
+      }
+    },
+    [&]
+    {
+      for (Part& part : parts)
+      {
+        for (const T& item : part.items)
+        {
+          take(item);
+        }
+        part.items.clear();
+      }
+      after();
+    });
 }
 
 } // namespace strata

@@ -109,3 +109,45 @@ TEST(ParallelTest, AnExceptionBetweenBlocksLeavesNoThreadRunning)
     Stop);
   EXPECT_EQ(blocks.load(), 3);
 }
+
+TEST(ParallelTest, GatherInOrderGivesEachItemOnceInOrderOfItsIndex)
+{
+  // Items 0..999, blocks of 64, each block's halves on two threads: the multiples of 3 give
+  // themselves, the multiples of 5 also their negation after; take() sees them as one pass
+  // over the indices would give them, and after() runs once per block, after its items.
+  std::vector<int> expected, taken;
+  for (int i = 0; i < 1000; ++i)
+  {
+    if (i % 3 == 0)
+    {
+      expected.push_back(i);
+    }
+    if (i % 5 == 0)
+    {
+      expected.push_back(-i);
+    }
+  }
+  std::vector<std::size_t> takenAtBlockEnd;
+  strata::gatherInOrder<int>(
+    1000,
+    64,
+    0,
+    [](std::size_t i, std::vector<int>& items)
+    {
+      if (i % 3 == 0)
+      {
+        items.push_back(static_cast<int>(i));
+      }
+      if (i % 5 == 0)
+      {
+        items.push_back(-static_cast<int>(i));
+      }
+    },
+    [&](int item) { taken.push_back(item); },
+    [&] { takenAtBlockEnd.push_back(taken.size()); });
+  EXPECT_EQ(taken, expected);
+  ASSERT_EQ(takenAtBlockEnd.size(), 16u); // ceil(1000 / 64)
+  EXPECT_EQ(takenAtBlockEnd.back(), expected.size());
+  // After the first block (items 0..63): 22 multiples of 3 and 13 of 5.
+  EXPECT_EQ(takenAtBlockEnd.front(), 35u);
+}
