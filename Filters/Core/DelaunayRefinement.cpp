@@ -745,27 +745,24 @@ private:
         this->report();
       });
   }
-  // The triangles t, increasing, for which pred(t) holds (sweepTriangles).
+  // The triangles t, increasing, for which pred(t) holds (as sweepTriangles, gatherInOrder).
   template<class Pred>
   std::vector<int> selectTriangles(Pred&& pred) const
   {
-    std::vector<int> list, parts[2];
-    this->sweepTriangles(
-      [&](int t, int part)
+    std::vector<int> list;
+    gatherInOrder<int>(
+      this->M.triangles.size(),
+      kTwoThreadBlock,
+      kTwoThreadItems,
+      [&](std::size_t t, std::vector<int>& found)
       {
-        if (pred(t))
+        if (pred(static_cast<int>(t)))
         {
-          parts[part].push_back(t);
+          found.push_back(static_cast<int>(t));
         }
       },
-      [&]
-      {
-        for (std::vector<int>& part : parts)
-        {
-          list.insert(list.end(), part.begin(), part.end());
-          part.clear();
-        }
-      });
+      [&](int t) { list.push_back(t); },
+      [&] { this->report(); });
     return list;
   }
   bool needsFlip(int t, int k) const;

@@ -652,19 +652,11 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
     touched.swap(this->Touched);
     for (std::size_t e = 0; e < this->Mesh.edges.size(); ++e)
     {
-      const std::array<int, 2>& ends = this->Mesh.edges[e];
-      if (awake[ends[0]] || awake[ends[1]])
+      if (awake[this->Mesh.edges[e][0]] || awake[this->Mesh.edges[e][1]])
       {
         this->LiveEdge[e] = 1;
         live.push_back(static_cast<int>(e));
-        for (const int i : ends)
-        {
-          if (!this->IsTouched[i])
-          {
-            this->IsTouched[i] = 1;
-            touched.push_back(i);
-          }
-        }
+        this->touch(this->Mesh.edges[e], touched);
       }
     }
     live.swap(this->LiveEdges);

@@ -322,17 +322,24 @@ private:
   // particles sleep), so that it resets those entries only.
   LargeVector<int> Touched;
   LargeVector<std::uint8_t> IsTouched;
+  // Marks the particles `ends` touched, appending those not yet touched to `into` (Touched,
+  // or a thread's list that becomes it).
   template<std::size_t N>
-  void touch(const std::array<int, N>& ends)
+  void touch(const std::array<int, N>& ends, LargeVector<int>& into)
   {
     for (const int i : ends)
     {
       if (!this->IsTouched[i])
       {
         this->IsTouched[i] = 1;
-        this->Touched.push_back(i);
+        into.push_back(i);
       }
     }
+  }
+  template<std::size_t N>
+  void touch(const std::array<int, N>& ends)
+  {
+    this->touch(ends, this->Touched);
   }
   void resetAccumulators(Vec2* f, double* k) const;
   LargeVector<std::uint8_t> Kind;
