@@ -689,7 +689,7 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
 void SpringSystem::resetAccumulators(Vec2* f, double* k) const
 {
   // A few particles touched: their entries; many: all of them (sequential writes).
-  if (this->Awake.empty() || 4 * this->Touched.size() > this->X.size())
+  if (!this->sparseReset())
   {
     std::fill(f, f + this->X.size(), Vec2{});
     std::fill(k, k + this->X.size(), 0.0);
@@ -737,15 +737,19 @@ void SpringSystem::computeForces()
   s.edgeEnd = second.edgeBegin = s.edgeEnd / 2;
   s.triangleEnd = second.triangleBegin = s.triangleEnd / 2;
   bothHalves([&] { add(s); }, [&] { add(second); });
-  const auto sum = [this](std::size_t from, std::size_t to)
+  // Summed where the second half may have written: every particle, or the touched ones when
+  // the accumulators are reset there only (the others' entries are zero in F1 and K1).
+  const int* touched = this->sparseReset() ? this->Touched.data() : nullptr;
+  const auto sum = [this, touched](std::size_t from, std::size_t to)
   {
-    for (std::size_t i = from; i < to; ++i)
+    for (std::size_t j = from; j < to; ++j)
     {
+      const std::size_t i = touched ? static_cast<std::size_t>(touched[j]) : j;
       this->F[i] = this->F[i] + this->F1[i];
       this->K[i] += this->K1[i];
     }
   };
-  const std::size_t n = this->F.size();
+  const std::size_t n = touched ? this->Touched.size() : this->F.size();
   bothHalves([&] { sum(0, n / 2); }, [&] { sum(n / 2, n); });
 }
 

@@ -342,6 +342,12 @@ private:
     this->touch(ends, this->Touched);
   }
   void resetAccumulators(Vec2* f, double* k) const;
+  // Whether computeForces resets (and sums) the touched particles' accumulators only: some
+  // particles sleep and at most a quarter of them are touched.
+  bool sparseReset() const
+  {
+    return !this->Awake.empty() && 4 * this->Touched.size() <= this->X.size();
+  }
   LargeVector<std::uint8_t> Kind;
   LargeVector<double> Local;
   std::vector<std::unique_ptr<SpringSet>> Sets;
