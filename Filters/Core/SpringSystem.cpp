@@ -581,7 +581,6 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
 {
   // Back to no live spring: what the last awake set made nonzero is reset (every accumulator
   // and flag when all springs may have written: before the first set, or with none).
-  const bool sparse = !this->Awake.empty() && !this->IsTouched.empty();
   const auto resetTouched = [this](LargeVector<Vec2>& f, LargeVector<double>& k)
   {
     if (f.size() != this->X.size())
@@ -594,7 +593,7 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
       k[i] = 0.0;
     }
   };
-  if (sparse && 4 * this->Touched.size() < this->X.size())
+  if (this->sparseReset())
   {
     resetTouched(this->F, this->K);
     resetTouched(this->F1, this->K1);

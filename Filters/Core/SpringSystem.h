@@ -342,8 +342,9 @@ private:
     this->touch(ends, this->Touched);
   }
   void resetAccumulators(Vec2* f, double* k) const;
-  // Whether computeForces resets (and sums) the touched particles' accumulators only: some
-  // particles sleep and at most a quarter of them are touched.
+  // Whether computeForces resets (and sums) the touched particles' accumulators only, and
+  // setAwake resets those entries only: some particles sleep and at most a quarter of them are
+  // touched (IsTouched is then sized: a nonempty awake mask sizes it).
   bool sparseReset() const
   {
     return !this->Awake.empty() && 4 * this->Touched.size() <= this->X.size();
