@@ -150,7 +150,9 @@ private:
   void pushStep(int i, double dt);
   void railStep(int i, double dt);
   std::size_t pushNewCrossings();
-  std::size_t refreshAwake(LargeVector<Vec2>& windowStart, const std::vector<int>& pushed);
+  std::size_t refreshAwake(LargeVector<Vec2>& windowStart,
+    const std::vector<int>& pushed,
+    bool tail = false);
   double lowerDistance(int i) const
   {
     const int g = this->Global[i];

@@ -123,8 +123,13 @@ def narrow(x, seg, P, Q, width):
     within `width` (a layer across), or the disc of diameter `width` touching x on that side,
     shrunk by NARROW_MARGIN, cut by a curve (a thin region's end, a corner sharper than about
     155 degrees). At a segment's end (a corner's apex) it is measured a hair inside the
-    segment."""
-    x = x + 1e-4 * (0.5 * (P[seg] + Q[seg]) - x)
+    segment: 1e-4 of its way to the segment's middle, at most 0.5% of `width` (1e-4 of a
+    long segment is many finest edges: beside a wedge's tip on a section's side 660 long, the
+    point tested lay 0.033 farther along, where the wedge is wider than the finest edge; much
+    less is too little: at a 1.6-degree spike's apex the ray then meets the spike's other
+    side nearer than the self-hit margin below)."""
+    length = float(np.linalg.norm(Q[seg] - P[seg]))
+    x = x + 1e-4 * min(1.0, 100.0 * width / max(length, 1e-300)) * (0.5 * (P[seg] + Q[seg]) - x)
     scale = 1.0 + np.abs(x).max()
     # The segment itself, and its twin in the other region's ring (the Loops form).
     same = (np.all(P == P[seg], axis=1) & np.all(Q == Q[seg], axis=1)) | \
