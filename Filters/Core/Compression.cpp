@@ -2059,6 +2059,21 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart,
   const std::size_t nv = x.size();
   LargeVector<std::uint8_t> awake(nv, 0);
   std::size_t moving = 0;
+  // The awake particles as they wake, while they are few (kFewAwake of the particles).
+  SpringSystem::AwakeSets few;
+  bool listed = true;
+  const auto wake = [&](int v)
+  {
+    if (v < this->NumActive && !awake[v])
+    {
+      awake[v] = 1;
+      if (listed)
+      {
+        few.particles.push_back(v);
+        listed = static_cast<double>(few.particles.size()) <= kFewAwake * static_cast<double>(nv);
+      }
+    }
+  };
   const auto visit = [&](int i)
   {
     const bool seed =
@@ -2073,14 +2088,14 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart,
     {
       for (int v : this->Tri[this->StarItems[s]])
       {
-        awake[v] = v < this->NumActive;
+        wake(v);
         if (tail && this->St[i] == Pushing && v < this->NumActive)
         {
           for (int r = this->StarStart[v]; r < this->StarStart[v + 1]; ++r)
           {
             for (int w : this->Tri[this->StarItems[r]])
             {
-              awake[w] = w < this->NumActive;
+              wake(w);
             }
           }
         }
@@ -2113,7 +2128,38 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart,
     }
   }
   this->noteMoved();
-  this->Sys->setAwake(std::move(awake));
+  if (!listed || few.particles.empty() || this->Detached ||
+    this->Tri.size() != this->Sys->numberOfTriangles())
+  {
+    this->Sys->setAwake(std::move(awake));
+    return moving;
+  }
+  // A few awake: their live springs from their stars, not from passes over every spring. The
+  // triangles with an awake corner are the awake particles' stars; the edges with an awake
+  // end are edges of those triangles.
+  std::sort(few.particles.begin(), few.particles.end());
+  for (const int v : few.particles)
+  {
+    for (int s = this->StarStart[v]; s < this->StarStart[v + 1]; ++s)
+    {
+      few.triangles.push_back(this->StarItems[s]);
+    }
+  }
+  std::sort(few.triangles.begin(), few.triangles.end());
+  few.triangles.erase(std::unique(few.triangles.begin(), few.triangles.end()), few.triangles.end());
+  for (const int t : few.triangles)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      if (awake[this->Tri[t][k]] || awake[this->Tri[t][(k + 1) % 3]])
+      {
+        few.edges.push_back(this->TriEdge[t][k]);
+      }
+    }
+  }
+  std::sort(few.edges.begin(), few.edges.end());
+  few.edges.erase(std::unique(few.edges.begin(), few.edges.end()), few.edges.end());
+  this->Sys->setAwake(std::move(awake), std::move(few));
   return moving;
 }
 

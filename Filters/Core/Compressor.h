@@ -37,6 +37,7 @@ constexpr int kWakeInterval = 10;          // steps between two updates of the a
 constexpr double kSleep = 3e-2;            // relative move in kWakeInterval steps that keeps awake
 constexpr double kQuietFraction = 5e-3;    // fewer moving vertices than this fraction: stop
 constexpr double kFewPushes = 1e-3;        // pushes left (share of the simulated) = a wave's tail
+constexpr double kFewAwake = 1.0 / 128.0;  // awake particles (share) whose springs come from stars
 constexpr double kGoodAngle = 30.0;        // optimization leaves stars and pairs above this alone
 constexpr double kPoorAngle = 20.0;        // smoothing below this may leave the boundary tolerance
 constexpr int kOnCurve = -2;               // vertex region of a vertex on a curve

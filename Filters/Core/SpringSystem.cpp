@@ -577,10 +577,11 @@ void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set)
   this->Sets.push_back(std::move(set));
 }
 
-void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
+// Back to no live spring: what the last awake set made nonzero is reset (every accumulator
+// and flag when all springs may have written: before the first set, or with none). With
+// `none` (every particle awake next) the flags go.
+void SpringSystem::resetLive(bool none)
 {
-  // Back to no live spring: what the last awake set made nonzero is reset (every accumulator
-  // and flag when all springs may have written: before the first set, or with none).
   const auto resetTouched = [this](LargeVector<Vec2>& f, LargeVector<double>& k)
   {
     if (f.size() != this->X.size())
@@ -616,10 +617,63 @@ void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
     std::fill(this->K.begin(), this->K.end(), 0.0);
     std::fill(this->F1.begin(), this->F1.end(), Vec2{});
     std::fill(this->K1.begin(), this->K1.end(), 0.0);
-    this->IsTouched.assign(mask.empty() ? 0 : this->X.size(), 0);
-    this->LiveEdge.assign(mask.empty() ? 0 : this->Mesh.edges.size(), 0);
-    this->LiveTriangle.assign(mask.empty() ? 0 : this->Mesh.triangles.size(), 0);
+    this->IsTouched.assign(none ? 0 : this->X.size(), 0);
+    this->LiveEdge.assign(none ? 0 : this->Mesh.edges.size(), 0);
+    this->LiveTriangle.assign(none ? 0 : this->Mesh.triangles.size(), 0);
   }
+}
+
+void SpringSystem::setAwake(LargeVector<std::uint8_t> mask, AwakeSets&& sets)
+{
+  if (mask.size() != this->X.size())
+  {
+    throw ParameterError("SpringSystem::setAwake: " + std::to_string(mask.size()) +
+      " mask entries for " + std::to_string(this->X.size()) + " particles");
+  }
+  const auto check = [](const LargeVector<int>& ids, std::size_t n, const char* what)
+  {
+    for (std::size_t j = 0; j < ids.size(); ++j)
+    {
+      if (ids[j] < 0 || static_cast<std::size_t>(ids[j]) >= n || (j > 0 && ids[j] <= ids[j - 1]))
+      {
+        throw ParameterError(std::string("SpringSystem::setAwake: the awake ") + what +
+          " are not increasing in [0, " + std::to_string(n) + "): " + std::to_string(ids[j]) +
+          " at " + std::to_string(j));
+      }
+    }
+  };
+  check(sets.particles, this->X.size(), "particles");
+  check(sets.edges, this->Mesh.edges.size(), "edges");
+  check(sets.triangles, this->Mesh.triangles.size(), "triangles");
+  for (const int i : sets.particles)
+  {
+    if (!mask[i])
+    {
+      throw ParameterError(
+        "SpringSystem::setAwake: particle " + std::to_string(i) + " is listed but asleep");
+    }
+  }
+  this->resetLive(false);
+  this->Awake = std::move(mask);
+  this->AwakeList.swap(sets.particles);
+  this->LiveEdges.swap(sets.edges);
+  this->LiveTriangles.swap(sets.triangles);
+  this->Touched.clear();
+  // (In the order of the pass over the edges below: the same touched list.)
+  for (const int e : this->LiveEdges)
+  {
+    this->LiveEdge[e] = 1;
+    this->touch(this->Mesh.edges[e]);
+  }
+  for (const int t : this->LiveTriangles)
+  {
+    this->LiveTriangle[t] = 1;
+  }
+}
+
+void SpringSystem::setAwake(LargeVector<std::uint8_t> mask)
+{
+  this->resetLive(mask.empty());
   this->Awake = std::move(mask);
   this->AwakeList.clear();
   this->LiveEdges.clear();

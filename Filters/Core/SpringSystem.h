@@ -239,6 +239,7 @@ public:
   std::size_t numberOfSpringSets() const { return this->Sets.size(); }
 
   std::size_t numberOfParticles() const { return this->X.size(); }
+  std::size_t numberOfTriangles() const { return this->Mesh.triangles.size(); }
   const SpringParams& params() const { return this->Params; }
   const SpringMesh& mesh() const { return this->Mesh; }
 
@@ -266,6 +267,21 @@ public:
   /// there only; the live springs are found by one pass over the edges and one over the
   /// triangles (on two threads for large meshes).
   void setAwake(LargeVector<std::uint8_t> awake);
+  /// The awake particles and their live springs, as a caller with the mesh's adjacency finds
+  /// them for a few awake particles: each list increasing, without repeats.
+  struct AwakeSets
+  {
+    LargeVector<int> particles; ///< those with a nonzero mask entry
+    LargeVector<int> edges;     ///< the edges with an awake end
+    LargeVector<int> triangles; ///< the triangles with an awake corner
+  };
+  /// setAwake(awake) with the lists given, not found by passes over every spring: the same
+  /// state, at the cost of the lists (a wave's tail refreshes a few awake particles at every
+  /// step). Preconditions: `awake` has an entry per particle; each list is increasing, in
+  /// range, and the particles' entries are nonzero (ParameterError otherwise); that the lists
+  /// hold every awake particle and live spring is the caller's (a pass over the springs to
+  /// check it would cost what this spares).
+  void setAwake(LargeVector<std::uint8_t> awake, AwakeSets&& sets);
   bool awake(int i) const { return this->Awake.empty() || this->Awake[i]; }
   /// The awake particles, increasing; null when every particle is awake.
   const LargeVector<int>* awakeParticles() const
@@ -342,6 +358,8 @@ private:
     this->touch(ends, this->Touched);
   }
   void resetAccumulators(Vec2* f, double* k) const;
+  // Back to no live spring before a new awake mask (`none`: an empty one).
+  void resetLive(bool none);
   // Whether computeForces resets (and sums) the touched particles' accumulators only, and
   // setAwake resets those entries only: some particles sleep and at most a quarter of them are
   // touched (IsTouched is then sized: a nonempty awake mask sizes it).

@@ -630,6 +630,75 @@ TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
   }
 }
 
+TEST(SpringSystemTest, AwakeListsGivenMakeTheSameStepsAsThePassesOverTheSprings)
+{
+  // A caller with the mesh's adjacency gives the awake particles and their live springs
+  // (the compression's wave tail, from its stars): the forces and the moves are bit for bit
+  // those of the masks alone, over awake sets that shrink and grow; malformed lists are
+  // refused.
+  const Lattice l = lattice(12);
+  strata::LargeVector<Vec2> x, v;
+  shaken(l, x, v);
+  strata::SpringSystem passes = makeSystem(l, x), given = makeSystem(l, x);
+  passes.velocities() = v;
+  given.velocities() = v;
+  for (const double reach : { 9.0, 3.0, 6.0, 1.5 })
+  {
+    SCOPED_TRACE(reach);
+    strata::LargeVector<std::uint8_t> awake(x.size(), 0);
+    strata::SpringSystem::AwakeSets sets;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      awake[i] = strata::norm(l.points[i] - Vec2{ 2.0, 3.0 }) < reach;
+      if (awake[i])
+      {
+        sets.particles.push_back(static_cast<int>(i));
+      }
+    }
+    const strata::SpringMesh& mesh = given.mesh();
+    for (std::size_t e = 0; e < mesh.edges.size(); ++e)
+    {
+      if (awake[mesh.edges[e][0]] || awake[mesh.edges[e][1]])
+      {
+        sets.edges.push_back(static_cast<int>(e));
+      }
+    }
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    {
+      const auto& tri = mesh.triangles[t];
+      if (awake[tri[0]] || awake[tri[1]] || awake[tri[2]])
+      {
+        sets.triangles.push_back(static_cast<int>(t));
+      }
+    }
+    ASSERT_FALSE(sets.particles.empty());
+    passes.setAwake(awake);
+    given.setAwake(awake, std::move(sets));
+    ASSERT_EQ(*passes.awakeParticles(), *given.awakeParticles());
+    for (int step = 0; step < 3; ++step)
+    {
+      passes.step(0.1);
+      given.step(0.1);
+    }
+    passes.computeForces();
+    given.computeForces();
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      ASSERT_EQ(std::memcmp(&passes.positions()[i], &given.positions()[i], sizeof(Vec2)), 0) << i;
+      ASSERT_EQ(std::memcmp(&passes.forces()[i], &given.forces()[i], sizeof(Vec2)), 0) << i;
+    }
+  }
+  strata::LargeVector<std::uint8_t> awake(x.size(), 0);
+  awake[5] = awake[7] = 1;
+  strata::SpringSystem::AwakeSets backwards;
+  backwards.particles = { 7, 5 };
+  EXPECT_THROW(given.setAwake(awake, std::move(backwards)), strata::ParameterError);
+  strata::SpringSystem::AwakeSets asleep;
+  asleep.particles = { 5, 6 };
+  EXPECT_THROW(given.setAwake(awake, std::move(asleep)), strata::ParameterError);
+  EXPECT_THROW(given.setAwake(strata::LargeVector<std::uint8_t>(3, 1), {}), strata::ParameterError);
+}
+
 TEST(SpringSystemTest, SleepersAwayFromTheAwakeHaveNoForceAndTheAwakeHaveEverySpring)
 {
   // While some particles sleep, only the springs touching an awake particle are evaluated and
