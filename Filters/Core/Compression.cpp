@@ -1279,8 +1279,7 @@ void Compressor::updateStars()
     return;
   }
   auto& flipped = this->Flipped;
-  std::sort(flipped.begin(), flipped.end());
-  flipped.erase(std::unique(flipped.begin(), flipped.end()), flipped.end());
+  sortUnique(flipped);
   this->FlippedMark.resize(this->Tri.size(), 0);
   // (vertex, triangle) of the flipped triangles now, by vertex then triangle.
   std::vector<std::pair<int, int>> now;
@@ -2145,8 +2144,7 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart,
       few.triangles.push_back(this->StarItems[s]);
     }
   }
-  std::sort(few.triangles.begin(), few.triangles.end());
-  few.triangles.erase(std::unique(few.triangles.begin(), few.triangles.end()), few.triangles.end());
+  sortUnique(few.triangles);
   for (const int t : few.triangles)
   {
     for (int k = 0; k < 3; ++k)
@@ -2157,8 +2155,7 @@ std::size_t Compressor::refreshAwake(LargeVector<Vec2>& windowStart,
       }
     }
   }
-  std::sort(few.edges.begin(), few.edges.end());
-  few.edges.erase(std::unique(few.edges.begin(), few.edges.end()), few.edges.end());
+  sortUnique(few.edges);
   this->Sys->setAwake(std::move(awake), std::move(few));
   return moving;
 }

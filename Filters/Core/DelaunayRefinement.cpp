@@ -382,13 +382,6 @@ Vec2 circumcenter(Vec2 a, Vec2 b, Vec2 c)
   return a + Vec2{ (ca.y * lb - ba.y * lc) / d, (ba.x * lc - ca.x * lb) / d };
 }
 
-template<class List>
-void sortUnique(List& list)
-{
-  std::sort(list.begin(), list.end());
-  list.erase(std::unique(list.begin(), list.end()), list.end());
-}
-
 // Whether p lies inside the polygon (even-odd crossings).
 bool insidePolygon(const std::vector<Vec2>& polygon, Vec2 p)
 {

@@ -98,6 +98,14 @@ LargeVector<T>& withRoom(LargeVector<T>& v, std::size_t n)
   return v;
 }
 
+/// The list sorted, without repeats (the working lists of ids: marks gathered in any order).
+template<class List>
+void sortUnique(List& list)
+{
+  std::sort(list.begin(), list.end());
+  list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
 } // namespace strata
 
 #endif
