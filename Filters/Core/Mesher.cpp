@@ -1363,24 +1363,41 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
 {
   RefinedOutcome o;
   std::vector<double> area(model.regions.size(), 0.0);
+  // The smallest angle in blocks whose two halves run at once (a minimum: in any order), the
+  // regions' areas summed in order.
+  double smallest[2] = { o.minAngle, o.minAngle };
+  blockwise(
+    mesh.triangles.size(),
+    kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t from, std::size_t to, int which)
+    {
+      double m = smallest[which]; // (a local: the two threads' results share a cache line)
+      for (std::size_t t = from; t < to; ++t)
+      {
+        if (model.regionIndex(mesh.triangleRegion[t]) < 0)
+        {
+          continue;
+        }
+        const auto& tri = mesh.triangles[t];
+        const Vec2 a = mesh.points[tri[0]], b = mesh.points[tri[1]], c = mesh.points[tri[2]];
+        if (kept.empty() || !nearKeptCorner(kept, a, b, c))
+        {
+          m = std::min(m, minimumAngle(a, b, c));
+        }
+      }
+      smallest[which] = m;
+    },
+    [&] { progress.report(1.0, "refining toward the minimum angle"); });
+  o.minAngle = std::min(smallest[0], smallest[1]);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
   {
-    if ((t & 16383) == 0)
-    {
-      progress.report(1.0, "refining toward the minimum angle");
-    }
     const int index = model.regionIndex(mesh.triangleRegion[t]);
-    if (index < 0)
+    if (index >= 0)
     {
-      continue;
+      const auto& tri = mesh.triangles[t];
+      area[index] += 0.5 * orient2d(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]]);
     }
-    const auto& tri = mesh.triangles[t];
-    const Vec2 a = mesh.points[tri[0]], b = mesh.points[tri[1]], c = mesh.points[tri[2]];
-    if (kept.empty() || !nearKeptCorner(kept, a, b, c))
-    {
-      o.minAngle = std::min(o.minAngle, minimumAngle(a, b, c));
-    }
-    area[index] += 0.5 * orient2d(a, b, c);
   }
   for (std::size_t r = 0; r < model.regions.size(); ++r)
   {
@@ -1752,6 +1769,15 @@ MesherResult triangulateOnce(const RawPolylines& input,
     result.area[t] = q[t].area;
   }
   progress.report(kOutputProgress, "writing the mesh");
+  // The approximated boundary (the triangles and their regions only) on a second thread while
+  // this one sums up the quality and finds the mesh's directed edges.
+  std::vector<std::vector<int>> boundaryIds;
+  Background boundaryTask(
+    [&]
+    {
+      result.boundary =
+        approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds);
+    });
   const QualitySummary qs = summarizeQuality(q);
   const std::vector<char> forced =
     atSharpCorners(model, result.points, result.triangles, result.minAngle);
@@ -1822,16 +1848,24 @@ MesherResult triangulateOnce(const RawPolylines& input,
       std::to_string(qs.inverted + qs.degenerate) + " output triangles have zero or negative area");
   }
 
-  // Approximated boundary, vertex classes.
-  progress.report(kOutputProgress, "writing the mesh");
-  std::vector<std::vector<int>> boundaryIds;
-  result.boundary =
-    approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds);
-  progress.report(kOutputProgress, "writing the mesh");
-  result.vertexClass.assign(result.points.size(), VertexInterior);
   // The mesh's directed edges: the local edges at the boundary and the regions' pieces below.
   const DirectedEdges edges(result.points.size(), result.triangles);
+  // Approximated boundary, vertex classes.
+  boundaryTask.wait();
+  progress.report(kOutputProgress, "writing the mesh");
+  result.vertexClass.assign(result.points.size(), VertexInterior);
   const double medianEdge = medianBoundaryEdge(result.boundary);
+  // The regions' pieces (the triangles, their regions and areas, the edges) on a second thread
+  // while this one measures the boundary's deviation.
+  // (Pieces below 4 median boundary edges squared are not counted, as the independent
+  // checker's topology count does: specks below the mesh's resolution.)
+  const double pieceEdge = medianEdge > 0.0 ? medianEdge : result.summary.finestEdgeLength;
+  std::string broken;
+  std::vector<int> brokenIds;
+  Background piecesTask(
+    [&] {
+      broken = brokenRegions(model, result, edges, kPieceFloor * pieceEdge * pieceEdge, brokenIds);
+    });
   // Boundary vertices: ends of an edge whose two sides have different regions (or one side
   // no triangle), the approximated boundary's vertices (every such edge is on one of its
   // curves).
@@ -2427,11 +2461,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
                               "than half of their area (region id and % of its area kept): " +
       unresolved + "; raise LocalMaxLevel or lower MinimumEdgeLength to keep them");
   }
-  // (Pieces below 4 median boundary edges squared are not counted, as the independent
-  // checker's topology count does: specks below the mesh's resolution.)
-  const double pieceEdge = medianEdge > 0.0 ? medianEdge : result.summary.finestEdgeLength;
-  const std::string broken =
-    brokenRegions(model, result, edges, kPieceFloor * pieceEdge * pieceEdge, result.brokenRegions);
+  piecesTask.wait();
+  result.brokenRegions = std::move(brokenIds);
   if (!broken.empty())
   {
     result.warnings.push_back("regions the mesh cuts into more pieces than the model has, where "

@@ -5,6 +5,7 @@
 #define StrataMeshCore_Parallel_h
 
 #include <cstddef>
+#include <exception>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -43,6 +44,70 @@ void bothHalves(First&& first, Second&& second)
   second();
 }
 
+/// A task that runs while the caller goes on: on a second thread when the machine has two cores
+/// (and a thread can be started), else at once, in the constructor. wait() returns when it is
+/// done and rethrows what it threw; the destructor waits too (dropping what it threw), so an
+/// exception of the caller's (Aborted) leaves no thread behind. The task may not report
+/// progress, and may read only what the caller does not write until wait().
+class Background
+{
+public:
+  template<class Task>
+  explicit Background(Task&& task)
+  {
+    static const bool twoCores = std::thread::hardware_concurrency() > 1;
+    auto run = [this, task]() mutable
+    {
+      try
+      {
+        task();
+      }
+      catch (...)
+      {
+        this->Error = std::current_exception();
+      }
+    };
+    if (twoCores)
+    {
+      try
+      {
+        this->Thread = std::thread(run);
+        return;
+      }
+      catch (const std::system_error&)
+      {
+        // No thread to be had: the task here.
+      }
+    }
+    run();
+  }
+  Background(const Background&) = delete;
+  Background& operator=(const Background&) = delete;
+  ~Background()
+  {
+    if (this->Thread.joinable())
+    {
+      this->Thread.join();
+    }
+  }
+  void wait()
+  {
+    if (this->Thread.joinable())
+    {
+      this->Thread.join();
+    }
+    if (this->Error)
+    {
+      std::exception_ptr error = this->Error;
+      this->Error = nullptr;
+      std::rethrow_exception(error);
+    }
+  }
+
+private:
+  std::thread Thread;
+  std::exception_ptr Error;
+};
 /// Runs work(from, to, part) over [0, n) in blocks of at most `block` items, in order: each
 /// block's two halves at once (bothHalves: part 0 on this thread, part 1 perhaps on another)
 /// when n >= threaded, else the whole block as part 0. After each block, after() runs on this

@@ -151,3 +151,50 @@ TEST(ParallelTest, GatherInOrderGivesEachItemOnceInOrderOfItsIndex)
   // After the first block (items 0..63): 22 multiples of 3 and 13 of 5.
   EXPECT_EQ(takenAtBlockEnd.front(), 35u);
 }
+
+TEST(ParallelTest, ABackgroundTaskIsDoneAtWaitAndItsExceptionReachesTheCaller)
+{
+  // The task's writes are all seen after wait().
+  std::vector<int> squares;
+  {
+    strata::Background task(
+      [&]
+      {
+        for (int i = 0; i < 100000; ++i)
+        {
+          squares.push_back(i % 1000 * (i % 1000));
+        }
+      });
+    task.wait();
+    ASSERT_EQ(squares.size(), 100000u);
+    EXPECT_EQ(squares[99999], 999 * 999);
+    task.wait(); // (a second wait returns at once)
+  }
+  // What the task throws is rethrown by wait(), once.
+  strata::Background failing([] { throw Stop(); });
+  EXPECT_THROW(failing.wait(), Stop);
+  EXPECT_NO_THROW(failing.wait());
+}
+
+TEST(ParallelTest, AnExceptionOfTheCallerWaitsForTheBackgroundTask)
+{
+  // The caller throws (a progress report's abort) while the task runs: the task's destructor
+  // joins it (no std::terminate), and the task ran to its end before the exception arrives.
+  std::atomic<int> done{ 0 };
+  const auto caller = [&]
+  {
+    strata::Background task(
+      [&]
+      {
+        volatile double x = 0.0;
+        for (int i = 0; i < 2000000; ++i)
+        {
+          x = x + 1.0;
+        }
+        done = 1;
+      });
+    throw Stop();
+  };
+  EXPECT_THROW(caller(), Stop);
+  EXPECT_EQ(done.load(), 1);
+}
