@@ -1082,8 +1082,7 @@ void Refiner::legalize(int p, std::vector<int>& around)
       around.push_back(u);
     }
   }
-  std::sort(around.begin(), around.end());
-  around.erase(std::unique(around.begin(), around.end()), around.end());
+  sortUnique(around);
 }
 
 bool Refiner::bad(int t) const
@@ -1543,8 +1542,7 @@ void Refiner::flipToDelaunayNear(std::vector<int> changed)
       }
     }
   }
-  std::sort(stack.begin(), stack.end());
-  stack.erase(std::unique(stack.begin(), stack.end()), stack.end());
+  sortUnique(stack);
   stack.erase(std::remove_if(stack.begin(),
                 stack.end(),
                 [this](const std::array<int, 2>& e) { return !this->needsFlip(e[0], e[1]); }),
@@ -1901,8 +1899,7 @@ std::size_t Refiner::followCurves()
         }
       }
     }
-    std::sort(todo.begin(), todo.end());
-    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    sortUnique(todo);
   };
   std::vector<int> all(this->M.triangles.size());
   std::iota(all.begin(), all.end(), 0);

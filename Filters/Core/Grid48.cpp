@@ -1182,8 +1182,7 @@ private:
         }
       }
     }
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    sortUnique(ids);
     std::vector<Vec2> pts;
     pts.reserve(ids.size());
     for (int id : ids)

@@ -93,8 +93,7 @@ std::vector<int> Compressor::offCurveBoundaryVertices() const
       }
     }
   }
-  std::sort(off.begin(), off.end());
-  off.erase(std::unique(off.begin(), off.end()), off.end());
+  sortUnique(off);
   return off;
 }
 
@@ -1137,10 +1136,8 @@ bool Compressor::collapseInto(int i, int v)
       nv.push_back(w);
     }
   }
-  std::sort(ni.begin(), ni.end());
-  ni.erase(std::unique(ni.begin(), ni.end()), ni.end());
-  std::sort(nv.begin(), nv.end());
-  nv.erase(std::unique(nv.begin(), nv.end()), nv.end());
+  sortUnique(ni);
+  sortUnique(nv);
   std::vector<int> common;
   std::set_intersection(ni.begin(), ni.end(), nv.begin(), nv.end(), std::back_inserter(common));
   common.erase(

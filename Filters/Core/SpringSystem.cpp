@@ -77,8 +77,7 @@ LargeVector<std::array<int, 2>> uniqueEdges(const LargeVector<std::array<int, 3>
       edges.push_back({ std::min(a, b), std::max(a, b) });
     }
   }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  sortUnique(edges);
   return edges;
 }
 
