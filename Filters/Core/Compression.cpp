@@ -1134,39 +1134,7 @@ void Compressor::buildSubMesh()
   withRoom(this->PushSteps, nv).assign(nv, 0);
   withRoom(this->Budget, nv).assign(nv, 0);
   this->Claimed.assign(this->TheModel.nodes.size(), 0);
-  // The pushed vertices' nearest curve points first (queries only: on two threads, in blocks).
-  const auto pushed = [this](std::size_t i)
-  {
-    const int g = this->Global[i];
-    return static_cast<int>(i) < this->NumActive && this->JunctionOf[g] < 0 &&
-      this->JunctionTarget[g] < 0 && this->Push[g];
-  };
-  LargeVector<int> pushIds;
-  for (std::size_t i = 0; i < nv; ++i)
-  {
-    if (pushed(i))
-    {
-      pushIds.push_back(static_cast<int>(i));
-    }
-  }
-  LargeVector<Location> pushAt(pushIds.size());
-  {
-    StripTreeScratch scratch2;
-    blockwise(
-      pushIds.size(),
-      kTwoThreadBlock,
-      kTwoThreadItems / 4,
-      [&](std::size_t from, std::size_t to, int which)
-      {
-        StripTreeScratch& scratch = which == 0 ? this->RailScratch : scratch2;
-        for (std::size_t j = from; j < to; ++j)
-        {
-          pushAt[j] = this->Rails.closest(this->positions()[pushIds[j]], scratch);
-        }
-      },
-      [&] { this->Progress.report(this->At, this->Stage); });
-  }
-  std::size_t nextPush = 0;
+  LargeVector<int> pushIds; // the pushes onto their nearest curve point, placed below
   for (std::size_t i = 0; i < nv; ++i)
   {
     this->poll(i);
@@ -1199,10 +1167,7 @@ void Compressor::buildSubMesh()
     else if (this->Push[g])
     {
       this->St[i] = Pushing;
-      this->Loc[i] = this->FirstTarget[i] = pushAt[nextPush++];
-      this->Target[i] = this->Rails.position(this->Loc[i]);
-      const int point = this->Rails.pointAt(this->Loc[i]);
-      this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
+      pushIds.push_back(li);
       this->Sys->setKind(li, ParticleKind::Driven);
       ++this->Result.pushedVertices;
     }
@@ -1210,6 +1175,28 @@ void Compressor::buildSubMesh()
     {
       this->St[i] = Free;
     }
+  }
+  // Their nearest curve points (queries only: in blocks, each block's halves on two threads).
+  StripTreeScratch scratch2;
+  blockwise(
+    pushIds.size(),
+    kTwoThreadBlock,
+    kTwoThreadItems / 4,
+    [&](std::size_t from, std::size_t to, int which)
+    {
+      StripTreeScratch& scratch = which == 0 ? this->RailScratch : scratch2;
+      for (std::size_t j = from; j < to; ++j)
+      {
+        const int i = pushIds[j];
+        this->Loc[i] = this->FirstTarget[i] = this->Rails.closest(this->positions()[i], scratch);
+      }
+    },
+    [&] { this->Progress.report(this->At, this->Stage); });
+  for (const int i : pushIds)
+  {
+    this->Target[i] = this->Rails.position(this->Loc[i]);
+    const int point = this->Rails.pointAt(this->Loc[i]);
+    this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
   }
   this->Result.simulatedVertices = static_cast<std::size_t>(this->NumActive);
   this->claimStopPoints();

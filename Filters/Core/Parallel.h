@@ -19,14 +19,20 @@ namespace strata
 constexpr std::size_t kTwoThreadItems = 65536;
 constexpr std::size_t kTwoThreadBlock = 65536;
 
+/// Whether the machine has two cores or more (asked once).
+inline bool twoCores()
+{
+  static const bool two = std::thread::hardware_concurrency() > 1;
+  return two;
+}
+
 /// Runs first() and second(): at once on two threads when the machine has two cores (and a
 /// thread can be started), else one after the other. Neither may throw, and second() may not
 /// report progress (it may run off the caller's thread).
 template<class First, class Second>
 void bothHalves(First&& first, Second&& second)
 {
-  static const bool twoCores = std::thread::hardware_concurrency() > 1;
-  if (twoCores)
+  if (twoCores())
   {
     try
     {
@@ -55,7 +61,6 @@ public:
   template<class Task>
   explicit Background(Task&& task)
   {
-    static const bool twoCores = std::thread::hardware_concurrency() > 1;
     auto run = [this, task]() mutable
     {
       try
@@ -67,7 +72,7 @@ public:
         this->Error = std::current_exception();
       }
     };
-    if (twoCores)
+    if (twoCores())
     {
       try
       {
