@@ -275,9 +275,10 @@
 // regions' areas change only where a boundary edge is split onto its curve (3, 2b', 7) or a
 // boundary vertex slides or is collapsed (6).
 // Two threads: the sweeps over the whole mesh (the neighbours, the first test of 2's flips,
-// which then stack only the edges that need one, the bad triangles of 3, the smallest angle)
-// run in blocks, each block's halves at once, and the probes of 2b may be asked in blocks
-// (RefinementParams::curvePoints); every result is the serial one.
+// which then stack only the edges that need one, the bad triangles of 3, the smallest angle,
+// the short boundary edges of 3's floor and the bad triangles with a short edge of 6, which
+// are then taken in order) run in blocks, each block's halves at once, and the probes of 2b
+// may be asked in blocks (RefinementParams::curvePoints); every result is the serial one.
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -551,6 +552,7 @@ public:
   /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
   std::size_t splitLongEdges();
   std::vector<int> pieces() const;
+  bool hasThinPiece() const;
   /// Smoothing of the vertices of the triangles below the bound: returns the moves.
   std::size_t smoothBad();
   /// Takes the neighbours of a prepared refiner of the same mesh (instead of prepare()).
@@ -1865,6 +1867,54 @@ std::vector<int> Refiner::pieces() const
   return piece;
 }
 
+// Whether a piece of a region (pieces()) has only thin live triangles (thin()): what
+// dissolveThinPieces() looks for. Searched from the thin triangles (selectTriangles()), a
+// piece left at its first triangle that is not thin. (A piece left so may be searched again
+// from a thin triangle not reached yet and then taken for thin: never the other way round.)
+bool Refiner::hasThinPiece() const
+{
+  const std::size_t nt = this->M.triangles.size();
+  const auto thinAt = [&](int t)
+  {
+    const auto& tri = this->M.triangles[t];
+    return this->M.region[t] >= 0 && this->Live[t] &&
+      this->thin(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+  };
+  const std::vector<int> seeds = this->selectTriangles(thinAt);
+  std::vector<std::uint8_t> seen(seeds.empty() ? 0 : nt, 0);
+  std::vector<int> stack;
+  for (const int seed : seeds)
+  {
+    if (seen[seed])
+    {
+      continue;
+    }
+    seen[seed] = 1;
+    stack.assign(1, seed);
+    bool thin = true;
+    while (!stack.empty() && thin)
+    {
+      const int t = stack.back();
+      stack.pop_back();
+      for (int k = 0; k < 3 && thin; ++k)
+      {
+        const int n = this->Nbr[t][k];
+        if (!this->constrained(t, k) && !seen[n])
+        {
+          seen[n] = 1;
+          thin = thinAt(n);
+          stack.push_back(n);
+        }
+      }
+    }
+    if (thin)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 std::size_t Refiner::followCurves()
 {
   if (!this->P.curveDeviation)
@@ -2383,9 +2433,10 @@ std::size_t Refiner::dissolveCorners()
     sumAreas();
     findSharp();
   }
-  // The pieces (pieces()) only when a thin piece may be dissolved or a longer triangle asks
-  // (at 1 M neither, mostly: 0.04 s a sweep); until then the retags are journalled, so that
-  // the pieces are those of the mesh before them, followed by the retags, as if made first.
+  // The pieces (pieces()) only when a thin piece may be dissolved (hasThinPiece()) or a longer
+  // triangle asks (at 1 M neither, mostly: 0.04 s a sweep); until then the retags are
+  // journalled, so that the pieces are those of the mesh before them, followed by the retags,
+  // as if made first.
   std::vector<int> piece;
   bool havePieces = false;
   struct Retag
@@ -2412,7 +2463,7 @@ std::size_t Refiner::dissolveCorners()
     havePieces = true;
   };
   std::size_t total = 0;
-  if (anyThin)
+  if (anyThin && this->hasThinPiece())
   {
     makePieces();
     total = this->dissolveThinPieces(piece, regionTwice, count);
@@ -2927,36 +2978,49 @@ void Refiner::findShortEdges()
   {
     return;
   }
-  for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
+  // The short region boundary edges (t, k) in order, on two threads; then, in that order, those
+  // between two stop points (the callback's queries are the caller's: one thread).
+  std::vector<std::array<int, 2>> edges;
+  gatherInOrder<std::array<int, 2>>(
+    this->M.triangles.size(),
+    kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t i, std::vector<std::array<int, 2>>& found)
+    {
+      const int t = static_cast<int>(i);
+      if (!this->Live[t] || this->M.region[t] < 0)
+      {
+        return;
+      }
+      const auto& tri = this->M.triangles[t];
+      for (int k = 0; k < 3; ++k)
+      {
+        const int u = this->Nbr[t][k];
+        // (Each edge once: from the triangle of the smaller index when both are regions'.)
+        if (this->constrained(t, k) &&
+          !(u >= 0 && u < t && this->M.region[u] >= 0 && this->Live[u]) &&
+          norm(this->X(tri[(k + 1) % 3]) - this->X(tri[k])) < kShortFeature * h)
+        {
+          found.push_back({ t, k });
+        }
+      }
+    },
+    [&](const std::array<int, 2>& e) { edges.push_back(e); },
+    [&] { this->report(); });
+  for (const auto& [t, k] : edges)
   {
-    if (!this->Live[t] || this->M.region[t] < 0)
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
+    if (this->P.stopPoint && !(this->P.stopPoint(a) && this->P.stopPoint(b)))
     {
       continue;
     }
-    const auto& tri = this->M.triangles[t];
-    for (int k = 0; k < 3; ++k)
-    {
-      const int u = this->Nbr[t][k];
-      // (Each edge once: from the triangle of the smaller index when both are regions'.)
-      if (!this->constrained(static_cast<int>(t), k) ||
-        (u >= 0 && u < static_cast<int>(t) && this->M.region[u] >= 0 && this->Live[u]))
-      {
-        continue;
-      }
-      const Vec2 a = this->X(tri[k]), b = this->X(tri[(k + 1) % 3]);
-      const double l = norm(b - a);
-      if (!(l < kShortFeature * h) ||
-        (this->P.stopPoint && !(this->P.stopPoint(a) && this->P.stopPoint(b))))
-      {
-        continue;
-      }
-      const Vec2 middle = 0.5 * (a + b);
-      this
-        ->ShortCells[shortCell(static_cast<std::int64_t>(std::floor(middle.x / h)),
-          static_cast<std::int64_t>(std::floor(middle.y / h)))]
-        .push_back(static_cast<int>(this->Shorts.size()));
-      this->Shorts.push_back({ middle, l });
-    }
+    const Vec2 middle = 0.5 * (a + b);
+    this
+      ->ShortCells[shortCell(static_cast<std::int64_t>(std::floor(middle.x / h)),
+        static_cast<std::int64_t>(std::floor(middle.y / h)))]
+      .push_back(static_cast<int>(this->Shorts.size()));
+    this->Shorts.push_back({ middle, norm(b - a) });
   }
 }
 
@@ -4294,14 +4358,82 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   const double cosBad = std::cos(P.minimumAngle * kPi / 180.0);
   const double shortLength = kFloor * P.minimumEdgeLength;
   const auto X = [&](int v) { return m.points[v]; };
-  std::map<int, std::size_t> count; // triangles per region
-  for (int r : m.region)
+  // A candidate: a region triangle below the angle, its shortest edge shorter than the floor,
+  // outside `avoid` and inside `within`. Whether a triangle is one depends on its corners only,
+  // and a collapse marks every corner of the triangles it changes as touched (skipped for the
+  // rest of the sweep): the candidates of a sweep are found first, on two threads, and the
+  // collapses then go through them in order, as one pass over every triangle would.
+  const auto shortestEdge = [&](const std::array<int, 3>& tri)
   {
-    ++count[r];
-  }
+    int k = 0; // the edge (tri[k], tri[k + 1])
+    for (int j = 1; j < 3; ++j)
+    {
+      k = norm2(X(tri[(j + 1) % 3]) - X(tri[j])) < norm2(X(tri[(k + 1) % 3]) - X(tri[k])) ? j : k;
+    }
+    return k;
+  };
+  const auto candidate = [&](std::size_t t)
+  {
+    const auto& tri = m.triangles[t];
+    if (m.region[t] < 0)
+    {
+      return false;
+    }
+    double largest = 0.0;
+    const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]), largest);
+    if (!(cosine > cosBad) || cosine > 1.0)
+    {
+      return false;
+    }
+    bool near = false, in = within.empty();
+    for (int v : tri)
+    {
+      for (const Zone& z : avoid)
+      {
+        near = near || norm2(X(v) - z.center) <= z.radius2;
+      }
+      for (const Zone& z : within)
+      {
+        in = in || norm2(X(v) - z.center) <= z.radius2;
+      }
+    }
+    if (near || !in)
+    {
+      return false;
+    }
+    const int k = shortestEdge(tri);
+    return norm(X(tri[(k + 1) % 3]) - X(tri[k])) < shortLength;
+  };
+  // (Counted at the first candidate: at 1 M triangles most sweeps find none.)
+  std::map<int, std::size_t> count; // triangles per region
   std::size_t total = 0;
   for (int sweep = 0; sweep < kCollapseSweeps; ++sweep)
   {
+    std::vector<int> candidates;
+    gatherInOrder<int>(
+      m.triangles.size(),
+      kTwoThreadBlock,
+      kTwoThreadItems,
+      [&](std::size_t t, std::vector<int>& found)
+      {
+        if (candidate(t))
+        {
+          found.push_back(static_cast<int>(t));
+        }
+      },
+      [&](int t) { candidates.push_back(t); },
+      [] {});
+    if (candidates.empty())
+    {
+      break;
+    }
+    if (count.empty())
+    {
+      for (int r : m.region)
+      {
+        ++count[r];
+      }
+    }
     const PointStars stars = pointStars(m.points.size(), m.triangles);
     const auto star = [&](int v)
     {
@@ -4348,44 +4480,14 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
       return manifold;
     };
     std::size_t collapsed = 0;
-    for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (const int t : candidates)
     {
       const auto tri = m.triangles[t];
-      if (dead[t] || m.region[t] < 0 || touched[tri[0]] || touched[tri[1]] || touched[tri[2]])
+      if (dead[t] || touched[tri[0]] || touched[tri[1]] || touched[tri[2]])
       {
         continue;
       }
-      double largest = 0.0;
-      const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]), largest);
-      if (!(cosine > cosBad) || cosine > 1.0)
-      {
-        continue;
-      }
-      bool near = false, in = within.empty();
-      for (int v : tri)
-      {
-        for (const Zone& z : avoid)
-        {
-          near = near || norm2(X(v) - z.center) <= z.radius2;
-        }
-        for (const Zone& z : within)
-        {
-          in = in || norm2(X(v) - z.center) <= z.radius2;
-        }
-      }
-      if (near || !in)
-      {
-        continue;
-      }
-      int k = 0; // shortest edge (tri[k], tri[k + 1])
-      for (int j = 1; j < 3; ++j)
-      {
-        k = norm2(X(tri[(j + 1) % 3]) - X(tri[j])) < norm2(X(tri[(k + 1) % 3]) - X(tri[k])) ? j : k;
-      }
-      if (!(norm(X(tri[(k + 1) % 3]) - X(tri[k])) < shortLength))
-      {
-        continue;
-      }
+      const int k = shortestEdge(tri); // (tri[k], tri[k + 1])
       // Try both ways: v merges into u.
       double bestCosine = HUGE_VAL;
       int bestV = -1, bestU = -1;
