@@ -802,10 +802,16 @@ private:
     }
   }
   double cornerAngle(int t) const;
-  // Whether abc's inradius (2 area / perimeter) is below a quarter of minimumEdgeLength: a
-  // thin triangle, of which a thin piece is made (dissolveThinPieces()).
-  bool thin(Vec2 a, Vec2 b, Vec2 c) const
+  // Whether t is a live region triangle whose inradius (2 area / perimeter) is below a quarter
+  // of minimumEdgeLength: a thin triangle, of which a thin piece is made (dissolveThinPieces()).
+  bool thin(int t) const
   {
+    if (this->M.region[t] < 0 || !this->Live[t])
+    {
+      return false;
+    }
+    const auto& tri = this->M.triangles[t];
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
     return orient2d(a, b, c) <
       0.25 * this->P.minimumEdgeLength * (norm(b - a) + norm(c - b) + norm(a - c));
   }
@@ -1867,20 +1873,14 @@ std::vector<int> Refiner::pieces() const
   return piece;
 }
 
-// Whether a piece of a region (pieces()) has only thin live triangles (thin()): what
+// Whether a piece of a region (pieces()) has only thin triangles (thin()): what
 // dissolveThinPieces() looks for. Searched from the thin triangles (selectTriangles()), a
 // piece left at its first triangle that is not thin. (A piece left so may be searched again
 // from a thin triangle not reached yet and then taken for thin: never the other way round.)
 bool Refiner::hasThinPiece() const
 {
   const std::size_t nt = this->M.triangles.size();
-  const auto thinAt = [&](int t)
-  {
-    const auto& tri = this->M.triangles[t];
-    return this->M.region[t] >= 0 && this->Live[t] &&
-      this->thin(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
-  };
-  const std::vector<int> seeds = this->selectTriangles(thinAt);
+  const std::vector<int> seeds = this->selectTriangles([this](int t) { return this->thin(t); });
   std::vector<std::uint8_t> seen(seeds.empty() ? 0 : nt, 0);
   std::vector<int> stack;
   for (const int seed : seeds)
@@ -1891,23 +1891,23 @@ bool Refiner::hasThinPiece() const
     }
     seen[seed] = 1;
     stack.assign(1, seed);
-    bool thin = true;
-    while (!stack.empty() && thin)
+    bool allThin = true;
+    while (!stack.empty() && allThin)
     {
       const int t = stack.back();
       stack.pop_back();
-      for (int k = 0; k < 3 && thin; ++k)
+      for (int k = 0; k < 3 && allThin; ++k)
       {
         const int n = this->Nbr[t][k];
         if (!this->constrained(t, k) && !seen[n])
         {
           seen[n] = 1;
-          thin = thinAt(n);
+          allThin = this->thin(n);
           stack.push_back(n);
         }
       }
     }
-    if (thin)
+    if (allThin)
     {
       return true;
     }
@@ -2412,8 +2412,7 @@ std::size_t Refiner::dissolveCorners()
         }
         if (!thinPart[part])
         {
-          const auto& tri = this->M.triangles[t];
-          thinPart[part] = this->thin(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
+          thinPart[part] = this->thin(t);
         }
       },
       [&]
@@ -2630,7 +2629,7 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
     }
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
     pieceTwice[piece[t]] += orient2d(a, b, c);
-    thinPiece[piece[t]] &= this->Live[t] && this->thin(a, b, c);
+    thinPiece[piece[t]] &= this->thin(static_cast<int>(t));
   }
   std::map<int, std::vector<int>> members; // thin piece -> triangles
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
@@ -4404,8 +4403,8 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
     const int k = shortestEdge(tri);
     return norm(X(tri[(k + 1) % 3]) - X(tri[k])) < shortLength;
   };
-  // (Counted at the first candidate: at 1 M triangles most sweeps find none.)
-  std::map<int, std::size_t> count; // triangles per region
+  std::map<int, std::size_t> count; // triangles per region (once the first sweep finds a
+                                    // candidate: at 1 M triangles it finds none)
   std::size_t total = 0;
   for (int sweep = 0; sweep < kCollapseSweeps; ++sweep)
   {
@@ -4427,7 +4426,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
     {
       break;
     }
-    if (count.empty())
+    if (sweep == 0)
     {
       for (int r : m.region)
       {
