@@ -4,8 +4,12 @@
 // the paper's method alone (BM_TriangulateGulfSectionPaperMethod: Optimization off, the
 // method issue 4 delivers). Counters: triangles, vertices, smallest angle, simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
-// progress calls (the abort latency).
+// progress calls (the abort latency). BM_TwoHalves: the cost of one strata::bothHalves() call
+// with two empty halves, back to back or after a pause of the argument's microseconds (the
+// second thread then asleep); BM_TwoHalvesThreadPerCall: a thread started and joined per call,
+// as bothHalves did before 2026-12-05 (a 1 M-triangle run makes some 1400 such calls).
 #include "Mesher.h"
+#include "Parallel.h"
 #include "VtpAscii.h"
 
 #include <benchmark/benchmark.h>
@@ -13,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <thread>
 
 namespace
 {
@@ -67,6 +72,44 @@ void BM_TriangulateGulfSectionPaperMethod(benchmark::State& state)
 {
   triangulateGulfSection(state, false);
 }
+
+// Each call timed on its own (manual time), after the pause.
+template<class Call>
+void timeCalls(benchmark::State& state, Call&& call)
+{
+  const auto pause = std::chrono::microseconds(state.range(0));
+  for (auto _ : state)
+  {
+    if (pause.count() > 0)
+    {
+      std::this_thread::sleep_for(pause);
+    }
+    const auto start = std::chrono::steady_clock::now();
+    call();
+    state.SetIterationTime(
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+}
+
+void BM_TwoHalves(benchmark::State& state)
+{
+  int halves[2] = { 0, 0 };
+  timeCalls(state, [&] { strata::bothHalves([&] { ++halves[0]; }, [&] { ++halves[1]; }); });
+  benchmark::DoNotOptimize(halves);
+}
+
+void BM_TwoHalvesThreadPerCall(benchmark::State& state)
+{
+  int halves[2] = { 0, 0 };
+  timeCalls(state,
+    [&]
+    {
+      std::thread other([&] { ++halves[1]; });
+      ++halves[0];
+      other.join();
+    });
+  benchmark::DoNotOptimize(halves);
+}
 } // namespace
 
 // maxLevel 10: ~1e4 triangles, 18: ~1e5, 24: ~1e6.
@@ -83,5 +126,13 @@ BENCHMARK(BM_TriangulateGulfSectionPaperMethod)
   ->Arg(24)
   ->Iterations(1)
   ->Unit(benchmark::kMillisecond);
+
+// Back to back, and 1 ms apart.
+BENCHMARK(BM_TwoHalves)->Arg(0)->Arg(1000)->UseManualTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TwoHalvesThreadPerCall)
+  ->Arg(0)
+  ->Arg(1000)
+  ->UseManualTime()
+  ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

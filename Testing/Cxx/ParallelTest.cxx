@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 namespace
@@ -197,4 +199,68 @@ TEST(ParallelTest, AnExceptionOfTheCallerWaitsForTheBackgroundTask)
   };
   EXPECT_THROW(caller(), Stop);
   EXPECT_EQ(done.load(), 1);
+}
+
+TEST(ParallelTest, BothHalvesRunOnceAndTheSecondsWritesAreSeenAfterTheCall)
+{
+  // Many calls in a row (the second thread spinning between them) and calls further apart
+  // than its spin (asleep between them): every call runs both halves once and returns after
+  // both, the second half's writes visible to the caller.
+  for (const int pauseMicroseconds : { 0, 1000 })
+  {
+    SCOPED_TRACE(pauseMicroseconds);
+    const int calls = pauseMicroseconds == 0 ? 20000 : 50;
+    std::vector<int> firsts(calls, 0), seconds(calls, 0);
+    for (int c = 0; c < calls; ++c)
+    {
+      if (pauseMicroseconds > 0)
+      {
+        std::this_thread::sleep_for(std::chrono::microseconds(pauseMicroseconds));
+      }
+      strata::bothHalves([&] { ++firsts[c]; }, [&] { ++seconds[c]; });
+      ASSERT_EQ(seconds[c], 1) << "call " << c;
+      ASSERT_EQ(firsts[c], 1) << "call " << c;
+    }
+  }
+}
+
+TEST(ParallelTest, BothHalvesNestedOrFromTwoCallersAtOnceAllRun)
+{
+  // A second half that itself splits (the second thread is busy with it), and two threads
+  // calling at once (one of them without the second thread): every half runs once.
+  std::atomic<int> halves{ 0 };
+  strata::bothHalves(
+    [&] { ++halves; }, [&] { strata::bothHalves([&] { ++halves; }, [&] { ++halves; }); });
+  EXPECT_EQ(halves.load(), 3);
+  halves = 0;
+  const auto caller = [&]
+  {
+    for (int c = 0; c < 2000; ++c)
+    {
+      strata::bothHalves([&] { ++halves; }, [&] { ++halves; });
+    }
+  };
+  std::thread other(caller);
+  caller();
+  other.join();
+  EXPECT_EQ(halves.load(), 2 * 2 * 2000);
+}
+
+TEST(ParallelTest, AFirstHalfThatThrowsWaitsForTheSecond)
+{
+  // (Neither half may throw; should the first after all, the call still waits for the second
+  // half, which uses the caller's objects, before the exception leaves it.)
+  std::atomic<int> done{ 0 };
+  EXPECT_THROW(strata::bothHalves([] { throw Stop(); },
+                 [&]
+                 {
+                   std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                   done = 1;
+                 }),
+    Stop);
+  EXPECT_EQ(done.load(), 1);
+  // The second thread is free again.
+  int second = 0;
+  strata::bothHalves([] {}, [&] { second = 1; });
+  EXPECT_EQ(second, 1);
 }
