@@ -232,6 +232,9 @@ private:
   bool pullIntoBulge(int t, int k, const Location& far);
   Location farthestLocation(const ChainPiece& piece) const;
   bool deviatingEdge(int t, int k, int nt, ChainPiece& piece) const;
+  // forEachDeviatingEdge's blocks of faces tested ahead: after a change, doubled up to the
+  // last while none changes; on two threads from kTwoThreadAhead faces.
+  static constexpr int kFirstAhead = 256, kLastAhead = 16384, kTwoThreadAhead = 2048;
   // Calls act(t, k, piece) for every boundary edge out of tolerance among the faces present
   // at the call (each edge once); act returns true when it changed face t, whose other edges
   // are then skipped. Returns how many calls returned true. `found` (kept by the caller
@@ -240,12 +243,22 @@ private:
   // emptied when an act changes the mesh (returns true, or flips edges and returns false).
   // Only the faces found are looked at until the first change; from there on, every face
   // (the change may put later faces' edges out of tolerance). So the faces visited and the
-  // edges acted on are those of a sweep over every face.
+  // edges acted on are those of a sweep over every face. From the first change on, the faces
+  // ahead are tested in blocks (on two threads from kTwoThreadAhead faces), each block when
+  // it is reached, so with the mesh as the sweep finds it there; a change within a block
+  // ends it (the next block starts at the next face), its blocks growing from kFirstAhead
+  // faces while there is none. (So an act may change the mesh only as said: returning true,
+  // or by flips, which Flips counts.)
   template<typename Act>
   std::size_t forEachDeviatingEdge(LargeVector<std::uint8_t>& found, Act&& act)
   {
     std::size_t changed = 0;
     const int nt = static_cast<int>(this->Tri.size());
+    const auto deviates = [&](int t, ChainPiece& scratch)
+    {
+      return this->deviatingEdge(t, 0, nt, scratch) || this->deviatingEdge(t, 1, nt, scratch) ||
+        this->deviatingEdge(t, 2, nt, scratch);
+    };
     if (found.size() != static_cast<std::size_t>(nt))
     {
       found.assign(static_cast<std::size_t>(nt), 0);
@@ -258,21 +271,57 @@ private:
           ChainPiece scratch;
           for (std::size_t t = from; t < to; ++t)
           {
-            const int ti = static_cast<int>(t);
-            found[t] = this->deviatingEdge(ti, 0, nt, scratch) ||
-              this->deviatingEdge(ti, 1, nt, scratch) || this->deviatingEdge(ti, 2, nt, scratch);
+            found[t] = deviates(static_cast<int>(t), scratch);
           }
         },
         [&] { this->Progress.report(this->At, this->Stage); });
     }
     bool every = false;
     ChainPiece piece;
+    std::vector<std::uint8_t> ahead;  // per face of [aheadBegin, aheadEnd): a deviating edge
+    int aheadBegin = 0, aheadEnd = 0; // (nothing changed since they were tested)
+    int aheadSize = kFirstAhead;
+    const auto testAhead = [&](int from)
+    {
+      aheadBegin = from;
+      aheadEnd = std::min(nt, from + aheadSize);
+      aheadSize = std::min(2 * aheadSize, kLastAhead);
+      ahead.assign(static_cast<std::size_t>(aheadEnd - aheadBegin), 0);
+      const auto some = [&](int begin, int end)
+      {
+        ChainPiece scratch;
+        for (int t = begin; t < end; ++t)
+        {
+          ahead[static_cast<std::size_t>(t - aheadBegin)] = deviates(t, scratch);
+        }
+      };
+      const int middle = aheadBegin + (aheadEnd - aheadBegin) / 2;
+      if (aheadEnd - aheadBegin >= kTwoThreadAhead)
+      {
+        bothHalves([&] { some(aheadBegin, middle); }, [&] { some(middle, aheadEnd); });
+      }
+      else
+      {
+        some(aheadBegin, aheadEnd);
+      }
+    };
     for (int t = 0; t < nt; ++t)
     {
       this->poll(static_cast<std::size_t>(t));
       if (!every && !found[static_cast<std::size_t>(t)])
       {
         continue;
+      }
+      if (every)
+      {
+        if (t >= aheadEnd)
+        {
+          testAhead(t);
+        }
+        if (!ahead[static_cast<std::size_t>(t - aheadBegin)])
+        {
+          continue;
+        }
       }
       for (int k = 0; k < 3; ++k)
       {
@@ -282,7 +331,12 @@ private:
         }
         const std::size_t flipsBefore = this->Flips;
         const bool acted = act(t, k, piece);
-        every = every || acted || this->Flips != flipsBefore;
+        if (acted || this->Flips != flipsBefore)
+        {
+          every = true;
+          aheadEnd = 0; // (the faces ahead are tested again from the next one)
+          aheadSize = kFirstAhead;
+        }
         if (acted)
         {
           ++changed;
