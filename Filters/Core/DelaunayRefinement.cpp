@@ -539,8 +539,9 @@ public:
   /// The tips of the region corners sharper than the bound in triangles too long and too
   /// large to be given away whole (or in every triangle, after cutEveryTip()), split off on
   /// their curves (2c): returns the splits. `sharp`: the triangles with a sharp region corner
-  /// now, increasing (until a cut changes the mesh, the only ones looked at).
-  std::size_t cutTips(const std::map<int, double>& regionTwice, const std::vector<int>& sharp);
+  /// now, increasing (until a cut changes the mesh, the only ones looked at);
+  /// `regionTwice(region)`: twice the region's (mesh) area, asked for before any cut.
+  std::size_t cutTips(const std::function<double(int)>& regionTwice, const std::vector<int>& sharp);
   /// From here on, dissolveCorners() cuts the tip of every sharp region corner (2c: the
   /// curve recovery's last pass).
   void cutEveryTip() { this->EveryTip = true; }
@@ -2345,21 +2346,29 @@ std::size_t Refiner::dissolveCorners()
   {
     return 0;
   }
-  std::map<int, std::size_t> count; // triangles per region
-  const auto countTriangles = [&]()
+  // The triangles per region and twice the regions' (mesh) areas are made when first asked
+  // for (at 1 M mostly never: 0.003 and 0.006 s a sweep): the counts before the first retag
+  // (the first visit below that retags asks for them first), the areas as the mesh was before
+  // the retags (journalled below), as when they were made first.
+  std::map<int, std::size_t> count;
+  bool counted = false;
+  const auto counts = [&]() -> std::map<int, std::size_t>&
   {
-    count.clear();
-    auto it = count.end(); // neighbouring triangles mostly share a region: one lookup per run
-    for (int r : this->M.region)
+    if (!counted)
     {
-      if (it == count.end() || it->first != r)
+      auto it = count.end(); // neighbouring triangles mostly share a region: one lookup per run
+      for (int r : this->M.region)
       {
-        it = count.try_emplace(r, 0).first;
+        if (it == count.end() || it->first != r)
+        {
+          it = count.try_emplace(r, 0).first;
+        }
+        ++it->second;
       }
-      ++it->second;
+      counted = true;
     }
+    return count;
   };
-  countTriangles();
   const auto around = [&](int t)
   {
     double angle = this->cornerAngle(t);
@@ -2372,6 +2381,7 @@ std::size_t Refiner::dissolveCorners()
   const double longest2 = std::pow(kDissolveLength * this->P.minimumEdgeLength, 2);
   // For longer triangles: twice the regions' (mesh) areas, and the regions' pieces.
   std::map<int, double> regionTwice;
+  bool summed = false;
   const auto sumAreas = [&]()
   {
     regionTwice.clear();
@@ -2387,7 +2397,6 @@ std::size_t Refiner::dissolveCorners()
       it->second += orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
     }
   };
-  sumAreas();
   // The triangles with a sharp region corner (increasing), and whether a live region triangle
   // is thinner than dissolveThinPieces() looks for (a thin piece has one): one sweep, on two
   // threads, made again when the mesh changed. Only such triangles can have a tip cut or be
@@ -2426,10 +2435,35 @@ std::size_t Refiner::dissolveCorners()
     anyThin = thinPart[0] || thinPart[1];
   };
   findSharp();
-  if (this->cutTips(regionTwice, sharp) > 0)
+  // The retags of the visits below while the areas or the pieces are not made yet.
+  struct Retag
   {
-    countTriangles();
-    sumAreas();
+    int t, from, to, beside; // beside: the neighbour whose piece t joins (-1: none)
+  };
+  std::vector<Retag> journal;
+  const auto areas = [&]() -> std::map<int, double>&
+  {
+    if (!summed)
+    {
+      for (auto it = journal.rbegin(); it != journal.rend(); ++it)
+      {
+        this->M.region[it->t] = it->from;
+      }
+      sumAreas();
+      for (const Retag& r : journal)
+      {
+        this->M.region[r.t] = r.to;
+      }
+      summed = true;
+    }
+    return regionTwice;
+  };
+  if (this->cutTips([&](int region) { return areas().at(region); }, sharp) > 0)
+  {
+    count.clear();
+    counted = false;
+    regionTwice.clear();
+    summed = false;
     findSharp();
   }
   // The pieces (pieces()) only when a thin piece may be dissolved (hasThinPiece()) or a longer
@@ -2438,11 +2472,6 @@ std::size_t Refiner::dissolveCorners()
   // as if made first.
   std::vector<int> piece;
   bool havePieces = false;
-  struct Retag
-  {
-    int t, from, to, beside; // beside: the neighbour whose piece t joins (-1: none)
-  };
-  std::vector<Retag> journal;
   const auto makePieces = [&]()
   {
     if (havePieces)
@@ -2465,7 +2494,7 @@ std::size_t Refiner::dissolveCorners()
   if (anyThin && this->hasThinPiece())
   {
     makePieces();
-    total = this->dissolveThinPieces(piece, regionTwice, count);
+    total = this->dissolveThinPieces(piece, areas(), counts());
     if (total > 0)
     {
       findSharp();
@@ -2494,7 +2523,7 @@ std::size_t Refiner::dissolveCorners()
     const bool speck = (own == 0 && twiceArea < this->P.minimumEdgeLength * perimeter) ||
       (own == 1 && twiceArea < 0.5 * this->P.minimumEdgeLength * perimeter);
     const bool longer = !speck && std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }) > longest2;
-    if (count[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * regionTwice[old])) ||
+    if (counts()[old] <= 1 || (longer && !(twiceArea <= kDeviationFraction * areas()[old])) ||
       (!speck && this->meshSpike(t)))
     {
       return;
@@ -2553,7 +2582,7 @@ std::size_t Refiner::dissolveCorners()
       {
         piece[t] = bestBeside >= 0 ? piece[bestBeside] : -1;
       }
-      else
+      if (!havePieces || !summed)
       {
         journal.push_back({ t, old, bestRegion, bestBeside });
       }
@@ -2704,7 +2733,7 @@ std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
   return total;
 }
 
-std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice,
+std::size_t Refiner::cutTips(const std::function<double(int)>& regionTwice,
   const std::vector<int>& sharp)
 {
   const double finest = this->P.minimumEdgeLength;
@@ -2735,7 +2764,7 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice,
     if (region < 0 || !this->Live[t] || this->cornerAngle(t) >= this->P.minimumAngle ||
       (!this->EveryTip &&
         (std::max({ norm2(p[1] - p[0]), norm2(p[2] - p[1]), norm2(p[0] - p[2]) }) <= longest2 ||
-          orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice.at(region))) ||
+          orient2d(p[0], p[1], p[2]) <= kDeviationFraction * regionTwice(region))) ||
       this->meshSpike(t))
     {
       continue; // 2c gives it away whole, or it has no sharp corner
@@ -2750,7 +2779,7 @@ std::size_t Refiner::cutTips(const std::map<int, double>& regionTwice,
       (2.0 * std::sin(0.5 * angles[k] * kPi / 180.0));
     const double la = norm(a - v), lb = norm(b - v);
     if (!(d < 0.45 * std::min(la, lb)) ||
-      !(d * d * std::sin(angles[k] * kPi / 180.0) <= kDeviationFraction * regionTwice.at(region)))
+      !(d * d * std::sin(angles[k] * kPi / 180.0) <= kDeviationFraction * regionTwice(region)))
     {
       continue; // the whole triangle is hardly larger than the tip, or the tip is no small share
     }
