@@ -287,23 +287,19 @@ private:
       aheadEnd = std::min(nt, from + aheadSize);
       aheadSize = std::min(2 * aheadSize, kLastAhead);
       ahead.assign(static_cast<std::size_t>(aheadEnd - aheadBegin), 0);
-      const auto some = [&](int begin, int end)
-      {
-        ChainPiece scratch;
-        for (int t = begin; t < end; ++t)
+      blockwise(
+        ahead.size(),
+        ahead.size(),
+        kTwoThreadAhead,
+        [&](std::size_t from, std::size_t to, int)
         {
-          ahead[static_cast<std::size_t>(t - aheadBegin)] = deviates(t, scratch);
-        }
-      };
-      const int middle = aheadBegin + (aheadEnd - aheadBegin) / 2;
-      if (aheadEnd - aheadBegin >= kTwoThreadAhead)
-      {
-        bothHalves([&] { some(aheadBegin, middle); }, [&] { some(middle, aheadEnd); });
-      }
-      else
-      {
-        some(aheadBegin, aheadEnd);
-      }
+          ChainPiece scratch;
+          for (std::size_t i = from; i < to; ++i)
+          {
+            ahead[i] = deviates(aheadBegin + static_cast<int>(i), scratch);
+          }
+        },
+        [] {});
     };
     for (int t = 0; t < nt; ++t)
     {

@@ -2586,9 +2586,9 @@ std::size_t Refiner::dissolveCorners()
       {
         journal.push_back({ t, old, bestRegion, bestBeside });
       }
+      --counts()[old];
+      ++counts()[bestRegion];
       this->M.region[t] = bestRegion;
-      --count[old];
-      ++count[bestRegion];
       ++total;
       next.push_back(t); // it may have a sharp corner in its new region
       this->appendNeighbours(t, next);
