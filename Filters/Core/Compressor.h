@@ -291,10 +291,10 @@ private:
         ahead.size(),
         ahead.size(),
         kTwoThreadAhead,
-        [&](std::size_t from, std::size_t to, int)
+        [&](std::size_t begin, std::size_t end, int)
         {
           ChainPiece scratch;
-          for (std::size_t i = from; i < to; ++i)
+          for (std::size_t i = begin; i < end; ++i)
           {
             ahead[i] = deviates(aheadBegin + static_cast<int>(i), scratch);
           }
