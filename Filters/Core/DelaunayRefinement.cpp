@@ -2441,19 +2441,24 @@ std::size_t Refiner::dissolveCorners()
     int t, from, to, beside; // beside: the neighbour whose piece t joins (-1: none)
   };
   std::vector<Retag> journal;
+  // make() on the mesh as it was before the journalled retags.
+  const auto beforeRetags = [&](auto&& make)
+  {
+    for (auto it = journal.rbegin(); it != journal.rend(); ++it)
+    {
+      this->M.region[it->t] = it->from;
+    }
+    make();
+    for (const Retag& r : journal)
+    {
+      this->M.region[r.t] = r.to;
+    }
+  };
   const auto areas = [&]() -> std::map<int, double>&
   {
     if (!summed)
     {
-      for (auto it = journal.rbegin(); it != journal.rend(); ++it)
-      {
-        this->M.region[it->t] = it->from;
-      }
-      sumAreas();
-      for (const Retag& r : journal)
-      {
-        this->M.region[r.t] = r.to;
-      }
+      beforeRetags(sumAreas);
       summed = true;
     }
     return regionTwice;
@@ -2478,14 +2483,9 @@ std::size_t Refiner::dissolveCorners()
     {
       return;
     }
-    for (auto it = journal.rbegin(); it != journal.rend(); ++it)
-    {
-      this->M.region[it->t] = it->from;
-    }
-    piece = this->pieces();
+    beforeRetags([&] { piece = this->pieces(); });
     for (const Retag& r : journal)
     {
-      this->M.region[r.t] = r.to;
       piece[r.t] = r.beside >= 0 ? piece[r.beside] : -1;
     }
     havePieces = true;
