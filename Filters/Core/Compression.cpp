@@ -1886,6 +1886,8 @@ void Compressor::flip(int t, int k)
   ++this->Flips;
   this->Flipped.push_back(t);
   this->Flipped.push_back(u);
+  this->noteChanged(t);
+  this->noteChanged(u);
   if (!this->MovedAll)
   {
     this->FlippedSinceTest.push_back(t);
@@ -2601,6 +2603,9 @@ void Compressor::run()
         break;
       }
     }
+    this->TrackChanges = false;
+    this->Changed = LargeVector<int>();
+    this->BadMark = LargeVector<std::uint8_t>();
     this->Result.secondsPerStage.push_back({ "optimization", secondsSince(t0) });
   }
   this->writeBack();

@@ -474,6 +474,26 @@ private:
   // Faces with an angle below kGoodAngle at the start of an optimization round, and their
   // corners (ascending): the rounds only look at these.
   LargeVector<int> BadFaces, BadVertices;
+  // collectBad()'s test per face (1: bad) and, from its first call on, the faces whose shape
+  // the rounds changed since (with repeats: flips, moves, collapses, splits), which are all
+  // its next call tests again, with the faces added since.
+  LargeVector<std::uint8_t> BadMark;
+  bool TrackChanges = false;
+  LargeVector<int> Changed;
+  void noteChanged(int t)
+  {
+    if (this->TrackChanges)
+    {
+      this->Changed.push_back(t);
+    }
+  }
+  void noteStar(int i) // (the faces around vertex i, before i moves or goes)
+  {
+    for (int s = this->StarStart[i]; this->TrackChanges && s < this->StarStart[i + 1]; ++s)
+    {
+      this->Changed.push_back(this->StarItems[s]);
+    }
+  }
   int FirstAdded = std::numeric_limits<int>::max();
   bool Detached = false; // springs no longer follow the mesh (no more simulation)
   // Result's points, triangles, levels and vertex states are copied from the grid only when

@@ -47,6 +47,10 @@
 //    inverts and the smallest angle around grows; the edge's two faces disappear.
 //    From (c) on, vertices whose push never arrived are free vertices (reported as stuck).
 //    Rounds of (c), (d), (f), (e) repeat optimizationPasses times (until nothing changes).
+//    Each round looks only at the faces with an angle below 30 degrees at its start, and their
+//    corners (collectBad): the first round tests every face, a later one only the faces the
+//    rounds before changed (flipped, split, collapsed, or with a corner moved) and the faces
+//    they added; the others keep their test.
 //    No move, flip, split or collapse of (c)-(f) lowers the local smallest angle, and region
 //    boundaries stay on the vertices the compression put on curves.
 #include "Compressor.h"
@@ -435,6 +439,7 @@ std::size_t Compressor::smooth()
       this->Rails.closest(x[i], this->RailScratch, &reach);
       if (norm(best - x[i]) < reach || this->regionAt(best) == this->VRegion[i])
       {
+        this->noteStar(i);
         x[i] = best;
         ++moves;
       }
@@ -481,6 +486,7 @@ std::size_t Compressor::smooth()
     }
     if (kept)
     {
+      this->noteStar(i);
       x[i] = p;
       this->Loc[i] = bestLoc;
       ++moves;
@@ -718,6 +724,8 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
   const int t2 = static_cast<int>(this->Tri.size()), u2 = t2 + 1;
   const int nBC = this->Nbr[t][(k + 1) % 3], nCA = this->Nbr[t][(k + 2) % 3];
   const int nAD = this->Nbr[u][(j + 1) % 3], nDB = this->Nbr[u][(j + 2) % 3];
+  this->noteChanged(t); // (t2 and u2 are new faces: collectBad() tests those anyway)
+  this->noteChanged(u);
   this->Tri[t] = { a, i, c };
   this->Nbr[t] = { u2, t2, nCA };
   this->Tri[u] = { b, i, d };
@@ -1201,6 +1209,7 @@ bool Compressor::collapseInto(int i, int v)
       }
     }
   }
+  this->noteStar(i); // (f's faces among them)
   for (int s = si0; s < si1; ++s)
   {
     const int t = this->StarItems[s];
@@ -1301,25 +1310,51 @@ std::size_t Compressor::collapseSqueezed()
 void Compressor::collectBad()
 {
   static const double goodSine = std::sin(kGoodAngle * 3.14159265358979323846 / 180.0);
+  const auto isBad = [&](int t)
+  { return this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine; };
+  const std::size_t nt = this->Tri.size();
+  if (this->TrackChanges && this->BadMark.size() <= nt)
+  {
+    // A later round's: the faces changed or added since the last call are tested again, the
+    // others keep their test (their corners and positions are as they were).
+    const std::size_t before = this->BadMark.size();
+    this->BadMark.resize(nt, 0);
+    for (const int t : this->Changed)
+    {
+      this->BadMark[t] = isBad(t) ? 1 : 0;
+    }
+    for (std::size_t t = before; t < nt; ++t)
+    {
+      this->BadMark[t] = isBad(static_cast<int>(t)) ? 1 : 0;
+    }
+  }
+  else
+  {
+    // The first round's: every face (on two threads: the tests only read).
+    withRoom(this->BadMark, nt).resize(nt);
+    blockwise(
+      nt,
+      kTwoThreadBlock,
+      kTwoThreadItems,
+      [&](std::size_t from, std::size_t to, int)
+      {
+        for (std::size_t t = from; t < to; ++t)
+        {
+          this->BadMark[t] = isBad(static_cast<int>(t)) ? 1 : 0;
+        }
+      },
+      [&] { this->Progress.report(this->At, this->Stage); });
+  }
+  this->Changed.clear();
+  this->TrackChanges = true;
   this->BadFaces.clear();
   this->BadVertices.clear();
   std::vector<std::uint8_t> mark(this->Global.size(), 0);
-  // (The faces' tests on two threads: they only read.)
-  gatherInOrder<int>(
-    this->Tri.size(),
-    kTwoThreadBlock,
-    kTwoThreadItems,
-    [&](std::size_t i, std::vector<int>& bad)
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (this->BadMark[t])
     {
-      const int t = static_cast<int>(i);
-      if (this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine)
-      {
-        bad.push_back(t);
-      }
-    },
-    [&](int t)
-    {
-      this->BadFaces.push_back(t);
+      this->BadFaces.push_back(static_cast<int>(t));
       for (int v : this->Tri[t])
       {
         if (!mark[v])
@@ -1328,8 +1363,8 @@ void Compressor::collectBad()
           this->BadVertices.push_back(v);
         }
       }
-    },
-    [&] { this->Progress.report(this->At, this->Stage); });
+    }
+  }
   std::sort(this->BadVertices.begin(), this->BadVertices.end());
 }
 
