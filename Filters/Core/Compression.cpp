@@ -2603,9 +2603,8 @@ void Compressor::run()
         break;
       }
     }
-    this->TrackChanges = false;
     this->Changed = LargeVector<int>();
-    this->BadMark = LargeVector<std::uint8_t>();
+    this->BadMark = LargeVector<std::uint8_t>(); // (no more tracking)
     this->Result.secondsPerStage.push_back({ "optimization", secondsSince(t0) });
   }
   this->writeBack();

@@ -474,22 +474,22 @@ private:
   // Faces with an angle below kGoodAngle at the start of an optimization round, and their
   // corners (ascending): the rounds only look at these.
   LargeVector<int> BadFaces, BadVertices;
-  // collectBad()'s test per face (1: bad) and, from its first call on, the faces whose shape
-  // the rounds changed since (with repeats: flips, moves, collapses, splits), which are all
-  // its next call tests again, with the faces added since.
+  // collectBad()'s test per face (1: bad), kept through the optimization's rounds, and while
+  // it is (not empty) the faces whose shape the rounds changed since its last call (with
+  // repeats: flips, moves, collapses, splits), which are all its next call tests again, with
+  // the faces added since.
   LargeVector<std::uint8_t> BadMark;
-  bool TrackChanges = false;
   LargeVector<int> Changed;
   void noteChanged(int t)
   {
-    if (this->TrackChanges)
+    if (!this->BadMark.empty())
     {
       this->Changed.push_back(t);
     }
   }
   void noteStar(int i) // (the faces around vertex i, before i moves or goes)
   {
-    for (int s = this->StarStart[i]; this->TrackChanges && s < this->StarStart[i + 1]; ++s)
+    for (int s = this->StarStart[i]; !this->BadMark.empty() && s < this->StarStart[i + 1]; ++s)
     {
       this->Changed.push_back(this->StarItems[s]);
     }

@@ -1313,7 +1313,7 @@ void Compressor::collectBad()
   const auto isBad = [&](int t)
   { return this->Tri[t][0] != this->Tri[t][1] && this->triMinAngleSine(t) < goodSine; };
   const std::size_t nt = this->Tri.size();
-  if (this->TrackChanges && this->BadMark.size() <= nt)
+  if (!this->BadMark.empty())
   {
     // A later round's: the faces changed or added since the last call are tested again, the
     // others keep their test (their corners and positions are as they were).
@@ -1346,7 +1346,6 @@ void Compressor::collectBad()
       [&] { this->Progress.report(this->At, this->Stage); });
   }
   this->Changed.clear();
-  this->TrackChanges = true;
   this->BadFaces.clear();
   this->BadVertices.clear();
   std::vector<std::uint8_t> mark(this->Global.size(), 0);
