@@ -216,6 +216,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "PercentTriangles30To60", s.percentTriangles30to60);
   vtkStrataMeshOutput::AddField(fd, "MaxBoundaryDeviation", s.maxBoundaryDeviation);
   vtkStrataMeshOutput::AddField(fd, "MaxRelativeBoundaryDeviation", s.maxRelativeDeviation);
+  vtkStrataMeshOutput::AddField(fd, "MaxBoundaryVertexDistance", s.maxBoundaryVertexDistance);
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
   vtkStrataMeshOutput::AddField(fd, "FinestEdgeLength", s.finestEdgeLength);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);

@@ -27,6 +27,8 @@
  * triangles whose smallest angle lies in [30, 60]), `MaxBoundaryDeviation` (model units),
  * `MaxRelativeBoundaryDeviation` (the largest deviation in local edge lengths, outside
  * regions narrower than the finest edge: above 0.5, a piece of a region is lost or added),
+ * `MaxBoundaryVertexDistance` (model units: the farthest vertex of output port 1 from the
+ * input curves; above 1e-9 of the model's size a warning says where it is),
  * `MaxRegionAreaError` (relative), `FinestEdgeLength` (model units: MinimumEdgeLength when
  * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),

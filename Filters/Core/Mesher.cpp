@@ -1880,6 +1880,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
   // Deviation of the approximated boundary from the input curves, both ways.
   {
     double maxVertex = 0.0, maxMeshToModel = 0.0;
+    Vec2 maxVertexAt; // (where maxVertex is, for the warning)
     // The largest deviation against the local edge there (the mean edge length of the
     // triangles beside the mesh's boundary edge), outside regions narrower than the finest
     // edge (they cannot be represented): the curve points beside one left out, and of the
@@ -2046,7 +2047,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
       }
       if (!c.points.empty())
       {
-        maxVertex = std::max(maxVertex, toCurves(c.points.back()));
+        const double d = toCurves(c.points.back());
+        if (d > maxVertex)
+        {
+          maxVertex = d;
+          maxVertexAt = c.points.back();
+        }
       }
     }
     {
@@ -2059,7 +2065,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
         StripTreeScratch heap;
         double vertex = 0.0, mesh = 0.0;
         double relative = 0.0, d = 0.0, e = 0.0;
-        Vec2 at;
+        Vec2 vertexAt, at;
         std::vector<MesherResult::BoundaryMiss> above;
       };
       std::array<MeshPart, 2> meshParts;
@@ -2072,7 +2078,12 @@ MesherResult triangulateOnce(const RawPolylines& input,
           MeshPart& part = meshParts[which];
           for (std::size_t s = from; s < to; ++s)
           {
-            part.vertex = std::max(part.vertex, toCurvesWith(a[s], part.heap));
+            const double dv = toCurvesWith(a[s], part.heap);
+            if (dv > part.vertex)
+            {
+              part.vertex = dv;
+              part.vertexAt = a[s];
+            }
             for (double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
             {
               const Vec2 q = a[s] + f * (b[s] - a[s]);
@@ -2101,7 +2112,11 @@ MesherResult triangulateOnce(const RawPolylines& input,
         {
           for (MeshPart& part : meshParts)
           {
-            maxVertex = std::max(maxVertex, part.vertex);
+            if (part.vertex > maxVertex)
+            {
+              maxVertex = part.vertex;
+              maxVertexAt = part.vertexAt;
+            }
             maxMeshToModel = std::max(maxMeshToModel, part.mesh);
             for (const MesherResult::BoundaryMiss& m : part.above)
             {
@@ -2405,8 +2420,15 @@ MesherResult triangulateOnce(const RawPolylines& input,
     }
     if (maxVertex > kOnCurve * model.size())
     {
-      result.warnings.push_back("a vertex of the approximated boundary lies " +
-        std::to_string(maxVertex) + " model units off the input curves");
+      char text[256];
+      std::snprintf(text,
+        sizeof(text),
+        "a vertex of the approximated boundary lies %.6g model units off the input curves, at "
+        "(%.9g, %.9g)",
+        maxVertex,
+        maxVertexAt.x + model.origin.x,
+        maxVertexAt.y + model.origin.y);
+      result.warnings.push_back(text);
     }
   }
 

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <ostream>
 #include <string>
@@ -682,6 +683,62 @@ INSTANTIATE_TEST_SUITE_P(DataModels,
   DefaultQuality,
   ::testing::ValuesIn(kDefaultCases),
   defaultCaseName);
+
+// With the Optimization off (the paper's method) the compression leaves two vertices of
+// lake_superior's approximated boundary off the curves (measured: 129 and 3251 units, in a
+// channel narrower than its triangles). The warning says how far the farthest one is and
+// where: a vertex of the mesh's boundary, that far from the curves.
+TEST(MesherTest, WarningNamesWhereTheBoundaryVertexFarthestOffTheCurvesLies)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("lake_superior.vtp"));
+  const strata::Model model = strata::buildModel(raw);
+  strata::MesherParams paper;
+  paper.compression.optimize = false;
+  const strata::MesherResult r = strata::triangulate(raw, paper);
+  ASSERT_GT(r.summary.maxBoundaryVertexDistance, 1e-9 * model.size());
+  std::string warning;
+  for (const std::string& w : r.warnings)
+  {
+    if (w.find("a vertex of the approximated boundary lies") != std::string::npos)
+    {
+      warning = w;
+    }
+  }
+  ASSERT_FALSE(warning.empty()) << allWarnings(r);
+  double d = 0.0, x = 0.0, y = 0.0;
+  ASSERT_EQ(std::sscanf(warning.c_str(),
+              "a vertex of the approximated boundary lies %lf model units off the input "
+              "curves, at (%lf, %lf)",
+              &d,
+              &x,
+              &y),
+    3)
+    << warning;
+  EXPECT_NEAR(d, r.summary.maxBoundaryVertexDistance, 1e-5 * d);
+  // The mesh vertex there (the coordinates are input ones, printed to 9 digits).
+  const Vec2 at{ x - r.origin.x, y - r.origin.y };
+  std::size_t nearest = 0;
+  for (std::size_t i = 1; i < r.points.size(); ++i)
+  {
+    if (strata::norm2(r.points[i] - at) < strata::norm2(r.points[nearest] - at))
+    {
+      nearest = i;
+    }
+  }
+  ASSERT_LT(strata::norm(r.points[nearest] - at), 1e-7 * model.size()) << warning;
+  EXPECT_EQ(r.vertexClass[nearest], strata::VertexBoundary);
+  const strata::BoundaryRails rails(model, 0.0);
+  strata::StripTreeScratch scratch;
+  double off = 0.0;
+  rails.closest(r.points[nearest], scratch, &off);
+  EXPECT_NEAR(off, d, 1e-5 * d);
+  // With the default settings the same model's boundary vertices are all on the curves: no
+  // such warning.
+  const strata::MesherResult defaults = strata::triangulate(raw);
+  EXPECT_EQ(
+    allWarnings(defaults).find("a vertex of the approximated boundary lies"), std::string::npos);
+}
 
 // The Delaunay refinement (MinimumAngle, default 30) against none (MinimumAngle 0): the
 // smallest angle does not drop, every vertex of the approximated boundary is still on a curve
