@@ -489,9 +489,11 @@ private:
   }
   void noteStar(int i) // (the faces around vertex i, before i moves or goes)
   {
-    for (int s = this->StarStart[i]; !this->BadMark.empty() && s < this->StarStart[i + 1]; ++s)
+    if (!this->BadMark.empty())
     {
-      this->Changed.push_back(this->StarItems[s]);
+      this->Changed.insert(this->Changed.end(),
+        this->StarItems.begin() + this->StarStart[i],
+        this->StarItems.begin() + this->StarStart[i + 1]);
     }
   }
   int FirstAdded = std::numeric_limits<int>::max();
