@@ -99,7 +99,9 @@ TriangleQuality triangleQuality(Vec2 a, Vec2 b, Vec2 c)
 }
 
 LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
-  const LargeVector<std::array<int, 3>>& triangles)
+  const LargeVector<std::array<int, 3>>& triangles,
+  const ProgressReporter& progress,
+  const char* stage)
 {
   LargeVector<TriangleQuality> out(triangles.size());
   const int n = static_cast<int>(points.size());
@@ -115,24 +117,26 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
       }
     }
   }
-  // Each triangle on its own: the two halves at once for large meshes.
-  const auto some = [&](std::size_t from, std::size_t to)
-  {
-    for (std::size_t t = from; t < to; ++t)
-    {
-      const std::array<int, 3>& tri = triangles[t];
-      out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
-    }
-  };
+  // Each triangle on its own: in blocks, each block's two halves at once for large meshes.
   const std::size_t nt = triangles.size();
-  if (nt < kTwoThreadItems)
-  {
-    some(0, nt);
-  }
-  else
-  {
-    bothHalves([&] { some(0, nt / 2); }, [&] { some(nt / 2, nt); });
-  }
+  std::size_t done = 0;
+  blockwise(
+    nt,
+    4 * kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t from, std::size_t to, int)
+    {
+      for (std::size_t t = from; t < to; ++t)
+      {
+        const std::array<int, 3>& tri = triangles[t];
+        out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
+      }
+    },
+    [&]
+    {
+      done = std::min(nt, done + 4 * kTwoThreadBlock);
+      progress.report(static_cast<double>(done) / static_cast<double>(nt), stage);
+    });
   return out;
 }
 

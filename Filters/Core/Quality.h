@@ -5,6 +5,7 @@
 
 #include "Geometry.h"
 #include "LargeArray.h"
+#include "Progress.h"
 
 #include <algorithm>
 #include <array>
@@ -66,9 +67,12 @@ struct QualitySummary
 };
 
 /// Quality of every triangle of a mesh (indices into points; throws ParameterError for an
-/// index out of range).
+/// index out of range). `progress` is told the fraction done, with `stage`, between blocks of
+/// triangles (at 1 M triangles the whole takes 0.03-0.06 s).
 LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
-  const LargeVector<std::array<int, 3>>& triangles);
+  const LargeVector<std::array<int, 3>>& triangles,
+  const ProgressReporter& progress = ProgressReporter(),
+  const char* stage = "measuring the triangles");
 
 /// Summary over the given per-triangle qualities (an empty list gives zeros).
 QualitySummary summarizeQuality(const LargeVector<TriangleQuality>& qualities);

@@ -112,6 +112,17 @@ public:
   virtual const char* name() const = 0;
   /// Rest lengths of every spring from the rest positions.
   virtual void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) = 0;
+  /// initialize(), telling `progress` (fraction 0, stage "building the spring system")
+  /// between parts of the work: a set with a spring per edge or per triangle corner takes
+  /// 0.02-0.07 s at a million triangles, most of it the first writes to its rest lengths. By
+  /// default initialize() in one go.
+  virtual void initialize(const SpringMesh& mesh,
+    const LargeVector<Vec2>& rest,
+    const ProgressReporter& progress)
+  {
+    (void)progress;
+    this->initialize(mesh, rest);
+  }
   /// After SpringSystem::flip: new rest lengths (the current ones) of the springs of edge
   /// `edge` and of triangles t0 and t1.
   virtual void flipped(const SpringMesh& mesh,
@@ -141,6 +152,9 @@ class EdgeSprings : public SpringSet
 public:
   const char* name() const override { return "edge"; }
   void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
+  void initialize(const SpringMesh& mesh,
+    const LargeVector<Vec2>& rest,
+    const ProgressReporter& progress) override;
   void flipped(const SpringMesh& mesh,
     const LargeVector<Vec2>& x,
     int edge,
@@ -167,6 +181,9 @@ class ProjectionSprings : public SpringSet
 public:
   const char* name() const override { return "projection"; }
   void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
+  void initialize(const SpringMesh& mesh,
+    const LargeVector<Vec2>& rest,
+    const ProgressReporter& progress) override;
   void flipped(const SpringMesh& mesh,
     const LargeVector<Vec2>& x,
     int edge,
@@ -225,7 +242,8 @@ public:
   /// Rest lengths from `rest` (same size as positions). Throws ParameterError for
   /// parameters out of range, sizes that differ or indices out of range. `progress` is told
   /// (fraction 0, stage "building the spring system") between the construction's passes over
-  /// the springs, which take about 0.05 s each at a million triangles.
+  /// the particles and the springs and between blocks of rest lengths (SpringSet::initialize),
+  /// which take 0.02-0.05 s each at a million triangles.
   SpringSystem(SpringMesh mesh,
     LargeVector<Vec2> positions,
     LargeVector<Vec2> rest,
@@ -234,8 +252,10 @@ public:
   /// Rest lengths from the initial positions.
   SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const SpringParams& params = {});
 
-  /// Adds a spring set (initialised from the rest positions given at construction).
-  void addSpringSet(std::unique_ptr<SpringSet> set);
+  /// Adds a spring set (initialised from the rest positions given at construction; `progress`
+  /// is told between parts of that, see SpringSet::initialize).
+  void addSpringSet(std::unique_ptr<SpringSet> set,
+    const ProgressReporter& progress = ProgressReporter());
   std::size_t numberOfSpringSets() const { return this->Sets.size(); }
 
   std::size_t numberOfParticles() const { return this->X.size(); }

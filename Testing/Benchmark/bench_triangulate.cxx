@@ -4,7 +4,8 @@
 // the paper's method alone (BM_TriangulateGulfSectionPaperMethod: Optimization off, the
 // method issue 4 delivers). Counters: triangles, vertices, smallest angle, simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
-// progress calls (the abort latency). BM_TwoHalves: the cost of one strata::bothHalves() call
+// progress calls (the abort latency; the label names the stages of the two calls around it).
+// BM_TwoHalves: the cost of one strata::bothHalves() call
 // with two empty halves, back to back or after a pause of the argument's microseconds (the
 // second thread then asleep); BM_TwoHalvesThreadPerCall: a thread started and joined per call,
 // as bothHalves did before 2026-12-05 (a 1 M-triangle run makes some 1400 such calls).
@@ -35,15 +36,22 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   params.compression.optimize = optimize;
   strata::MesherResult result;
   double longestGap = 0.0;
+  std::string gapStage, lastStage; // the stage of the report that ended the longest gap
   for (auto _ : state)
   {
     auto previous = std::chrono::steady_clock::now();
     result = strata::triangulate(gulf(),
       params,
-      [&](double, const char*)
+      [&](double, const char* stage)
       {
         const auto now = std::chrono::steady_clock::now();
-        longestGap = std::max(longestGap, std::chrono::duration<double>(now - previous).count());
+        const double gap = std::chrono::duration<double>(now - previous).count();
+        if (gap > longestGap)
+        {
+          longestGap = gap;
+          gapStage = (lastStage.empty() ? std::string() : lastStage + " -> ") + stage;
+        }
+        lastStage = stage;
         previous = now;
         return true;
       });
@@ -55,6 +63,7 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   state.counters["iterations"] = result.summary.iterations;
   state.counters["s_total"] = result.summary.totalSeconds;
   state.counters["max_progress_gap_s"] = longestGap;
+  state.SetLabel("longest gap: " + gapStage);
   for (const auto& stage : result.summary.secondsPerStage)
   {
     std::string name = "s_" + stage.first;

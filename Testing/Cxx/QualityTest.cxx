@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace
 {
@@ -109,6 +112,59 @@ TEST(QualityTest, SummaryCountsInvertedAndDegenerateTriangles)
   const strata::QualitySummary s = strata::summarizeQuality(p, { { 0, 2, 1 }, { 0, 1, 3 } });
   EXPECT_EQ(s.inverted, 1u);
   EXPECT_EQ(s.degenerate, 1u);
+}
+
+TEST(QualityTest, LargeMeshIsMeasuredInBlocksBetweenProgressReports)
+{
+  // 400 x 400 unit squares, each split into two right triangles: 320 k triangles.
+  const int n = 400;
+  strata::LargeVector<Vec2> p;
+  strata::LargeVector<std::array<int, 3>> t;
+  for (int j = 0; j <= n; ++j)
+  {
+    for (int i = 0; i <= n; ++i)
+    {
+      p.push_back({ static_cast<double>(i), static_cast<double>(j) });
+    }
+  }
+  for (int j = 0; j < n; ++j)
+  {
+    for (int i = 0; i < n; ++i)
+    {
+      const int a = j * (n + 1) + i;
+      t.push_back({ a, a + 1, a + n + 2 });
+      t.push_back({ a, a + n + 2, a + n + 1 });
+    }
+  }
+  std::vector<double> fractions;
+  const strata::LargeVector<strata::TriangleQuality> q = strata::triangleQualities(p,
+    t,
+    strata::ProgressReporter(
+      [&fractions](double f, const char* stage)
+      {
+        EXPECT_STREQ(stage, "measuring");
+        fractions.push_back(f);
+        return true;
+      }),
+    "measuring");
+  ASSERT_EQ(q.size(), t.size());
+  ASSERT_GE(fractions.size(), 2u); // more than one block
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  // Every triangle of every block measured: 45, 45 and 90 degrees, area 1/2.
+  for (const strata::TriangleQuality& tq : q)
+  {
+    ASSERT_NEAR(tq.minAngle, 45.0, 1e-9);
+    ASSERT_NEAR(tq.maxAngle, 90.0, 1e-9);
+    ASSERT_NEAR(tq.area, 0.5, 1e-12);
+  }
+  // An abort asked between blocks stops the measure.
+  int calls = 0;
+  EXPECT_THROW(
+    strata::triangleQualities(
+      p, t, strata::ProgressReporter([&calls](double, const char*) { return ++calls < 1; })),
+    strata::Aborted);
+  EXPECT_EQ(calls, 1);
 }
 
 TEST(QualityTest, RejectsIndicesOutOfRange)

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -170,6 +171,65 @@ TEST(SpringSystemTest, SystemAtRestStaysAtRest)
     EXPECT_NEAR(s.positions()[i].y, l.points[i].y, 1e-12);
   }
   EXPECT_LT(s.kineticEnergy(), 1e-24);
+}
+
+TEST(SpringSystemTest, LargeSystemReportsProgressWhileItSetsItsRestLengths)
+{
+  // 300 x 300 squares: 270 k edge springs and 540 k projection springs, more than one block
+  // of rest lengths each (a block between two reports); 10 x 10: one each. Interior particles
+  // are moved off their rest positions (in the large lattice one in each block's triangles):
+  // with every rest length set, the springs pull each back alike.
+  const auto build = [](int n, const std::vector<Vec2>& at, int& reports)
+  {
+    const Lattice l = lattice(n);
+    strata::SpringMesh mesh;
+    mesh.triangles = l.triangles;
+    mesh.edges = strata::uniqueEdges(l.triangles);
+    reports = 0;
+    const strata::ProgressReporter progress(
+      [&reports](double, const char* stage)
+      {
+        EXPECT_STREQ(stage, "building the spring system");
+        ++reports;
+        return true;
+      });
+    strata::LargeVector<Vec2> start = l.points;
+    std::vector<int> moved;
+    for (const Vec2 a : at)
+    {
+      moved.push_back(static_cast<int>(a.y) * (n + 1) + static_cast<int>(a.x));
+      start[moved.back()] = start[moved.back()] + Vec2{ 0.3, 0.1 };
+    }
+    strata::SpringSystem s(mesh, start, l.points, strata::SpringParams(), progress);
+    s.computeForces();
+    std::vector<Vec2> forces;
+    for (const int i : moved)
+    {
+      forces.push_back(s.forces()[i]);
+    }
+    return forces;
+  };
+  int small = 0, large = 0;
+  const Vec2 expected = build(10, { { 5, 5 } }, small)[0];
+  const std::vector<Vec2> got = build(300, { { 150, 50 }, { 150, 200 }, { 150, 298 } }, large);
+  EXPECT_GE(large, small + 3); // one more block of edges, two more of projections
+  EXPECT_LT(expected.x, -0.1); // pulled back
+  for (const Vec2 f : got)
+  {
+    EXPECT_NEAR(f.x, expected.x, 1e-9 * std::fabs(expected.x));
+    EXPECT_NEAR(f.y, expected.y, 1e-9 * std::fabs(expected.x));
+  }
+  // An abort asked while the rest lengths are set stops the construction.
+  const Lattice l = lattice(300);
+  strata::SpringMesh mesh;
+  mesh.triangles = l.triangles;
+  mesh.edges = strata::uniqueEdges(l.triangles);
+  int calls = 0;
+  const int limit = small + 2; // (a report among the projection springs' blocks)
+  const strata::ProgressReporter stop(
+    [&calls, limit](double, const char*) { return ++calls < limit; });
+  EXPECT_THROW(
+    strata::SpringSystem(mesh, l.points, l.points, strata::SpringParams(), stop), strata::Aborted);
 }
 
 TEST(SpringSystemTest, EnergyDecaysWithDamping)
