@@ -212,10 +212,10 @@ inline void edgeKernel2(__m128d dxx,
 // Edge springs.
 void EdgeSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest)
 {
-  this->initialize(mesh, rest, ProgressReporter());
+  this->initializeWithProgress(mesh, rest, ProgressReporter());
 }
 
-void EdgeSprings::initialize(const SpringMesh& mesh,
+void EdgeSprings::initializeWithProgress(const SpringMesh& mesh,
   const LargeVector<Vec2>& rest,
   const ProgressReporter& progress)
 {
@@ -333,10 +333,10 @@ void ProjectionSprings::restOf(const SpringMesh& mesh, const LargeVector<Vec2>& 
 
 void ProjectionSprings::initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest)
 {
-  this->initialize(mesh, rest, ProgressReporter());
+  this->initializeWithProgress(mesh, rest, ProgressReporter());
 }
 
-void ProjectionSprings::initialize(const SpringMesh& mesh,
+void ProjectionSprings::initializeWithProgress(const SpringMesh& mesh,
   const LargeVector<Vec2>& rest,
   const ProgressReporter& progress)
 {
@@ -613,7 +613,7 @@ SpringSystem::SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const S
 
 void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set, const ProgressReporter& progress)
 {
-  set->initialize(this->Mesh, this->Rest, progress);
+  set->initializeWithProgress(this->Mesh, this->Rest, progress);
   this->Sets.push_back(std::move(set));
 }
 

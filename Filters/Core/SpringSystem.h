@@ -116,7 +116,7 @@ public:
   /// between parts of the work: a set with a spring per edge or per triangle corner takes
   /// 0.02-0.07 s at a million triangles, most of it the first writes to its rest lengths. By
   /// default initialize() in one go.
-  virtual void initialize(const SpringMesh& mesh,
+  virtual void initializeWithProgress(const SpringMesh& mesh,
     const LargeVector<Vec2>& rest,
     const ProgressReporter& progress)
   {
@@ -152,7 +152,7 @@ class EdgeSprings : public SpringSet
 public:
   const char* name() const override { return "edge"; }
   void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
-  void initialize(const SpringMesh& mesh,
+  void initializeWithProgress(const SpringMesh& mesh,
     const LargeVector<Vec2>& rest,
     const ProgressReporter& progress) override;
   void flipped(const SpringMesh& mesh,
@@ -181,7 +181,7 @@ class ProjectionSprings : public SpringSet
 public:
   const char* name() const override { return "projection"; }
   void initialize(const SpringMesh& mesh, const LargeVector<Vec2>& rest) override;
-  void initialize(const SpringMesh& mesh,
+  void initializeWithProgress(const SpringMesh& mesh,
     const LargeVector<Vec2>& rest,
     const ProgressReporter& progress) override;
   void flipped(const SpringMesh& mesh,
@@ -242,8 +242,8 @@ public:
   /// Rest lengths from `rest` (same size as positions). Throws ParameterError for
   /// parameters out of range, sizes that differ or indices out of range. `progress` is told
   /// (fraction 0, stage "building the spring system") between the construction's passes over
-  /// the particles and the springs and between blocks of rest lengths (SpringSet::initialize),
-  /// which take 0.02-0.05 s each at a million triangles.
+  /// the particles and the springs and between blocks of rest lengths
+  /// (SpringSet::initializeWithProgress), which take 0.02-0.05 s each at a million triangles.
   SpringSystem(SpringMesh mesh,
     LargeVector<Vec2> positions,
     LargeVector<Vec2> rest,
@@ -253,7 +253,7 @@ public:
   SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const SpringParams& params = {});
 
   /// Adds a spring set (initialised from the rest positions given at construction; `progress`
-  /// is told between parts of that, see SpringSet::initialize).
+  /// is told between parts of that, see SpringSet::initializeWithProgress).
   void addSpringSet(std::unique_ptr<SpringSet> set,
     const ProgressReporter& progress = ProgressReporter());
   std::size_t numberOfSpringSets() const { return this->Sets.size(); }
