@@ -5,6 +5,7 @@
 // method issue 4 delivers). Counters: triangles, vertices, smallest angle, simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
 // progress calls (the abort latency; the label names the stages of the two calls around it).
+// BM_AbortGulfSection: the time an abort asked N ms into a 1 M-triangle run takes to return.
 // BM_TwoHalves: the cost of one strata::bothHalves() call
 // with two empty halves, back to back or after a pause of the argument's microseconds (the
 // second thread then asleep); BM_TwoHalvesThreadPerCall: a thread started and joined per call,
@@ -82,6 +83,46 @@ void BM_TriangulateGulfSectionPaperMethod(benchmark::State& state)
   triangulateGulfSection(state, false);
 }
 
+// An abort asked the argument's milliseconds into a 1 M-triangle run (default settings), as a
+// user's click would be: the callback returns false from its first call at or after that
+// moment. abort_latency_s is the time from that moment to triangulate's return (strata::
+// Aborted): the wait for the next progress report plus the unwinding, background tasks
+// joined. The label names the stage the abort met.
+void BM_AbortGulfSection(benchmark::State& state)
+{
+  strata::MesherParams params;
+  params.grid.maxLevel = 24;
+  const auto after = std::chrono::milliseconds(state.range(0));
+  double latency = -1.0;
+  std::string met = "(finished first)";
+  for (auto _ : state)
+  {
+    const auto start = std::chrono::steady_clock::now();
+    bool asked = false;
+    try
+    {
+      strata::triangulate(gulf(),
+        params,
+        [&](double, const char* stage)
+        {
+          if (!asked && std::chrono::steady_clock::now() - start >= after)
+          {
+            asked = true;
+            met = stage;
+          }
+          return !asked;
+        });
+    }
+    catch (const strata::Aborted&)
+    {
+    }
+    const auto end = std::chrono::steady_clock::now();
+    latency = asked ? std::chrono::duration<double>(end - (start + after)).count() : -1.0;
+  }
+  state.counters["abort_latency_s"] = latency;
+  state.SetLabel(met);
+}
+
 // Each call timed on its own (manual time), after the pause.
 template<class Call>
 void timeCalls(benchmark::State& state, Call&& call)
@@ -137,6 +178,10 @@ BENCHMARK(BM_TriangulateGulfSectionPaperMethod)
   ->Unit(benchmark::kMillisecond);
 
 // Back to back, and 1 ms apart.
+BENCHMARK(BM_AbortGulfSection)
+  ->DenseRange(100, 4300, 300)
+  ->Iterations(1)
+  ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TwoHalves)->Arg(0)->Arg(1000)->UseManualTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_TwoHalvesThreadPerCall)
   ->Arg(0)
