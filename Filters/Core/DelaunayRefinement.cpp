@@ -4744,14 +4744,27 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
 
 // A copy of the mesh with room for what a run adds (withRoom()): its arrays do not copy
 // themselves whole to new memory at the run's first insertion (at 1 M triangles, with the
-// refiners' own arrays, 24 such copies in a run: 190 MB written).
-RegionMesh roomyCopy(const RegionMesh& mesh)
+// refiners' own arrays, 24 such copies in a run: 190 MB written). With `progress`, reports
+// before, between and after the arrays (at 1 M their first writes took up to 0.15 s on a slow
+// hour of this machine).
+RegionMesh roomyCopy(const RegionMesh& mesh, const ProgressReporter* progress = nullptr)
 {
+  const auto report = [progress]
+  {
+    if (progress)
+    {
+      progress->report(0.0, kRefiningStage);
+    }
+  };
   RegionMesh copy;
+  report();
   withRoom(copy.points, mesh.points.size()) = mesh.points;
+  report();
   withRoom(copy.triangles, mesh.triangles.size()) = mesh.triangles;
+  report();
   withRoom(copy.region, mesh.region.size()) = mesh.region;
   withRoom(copy.level, mesh.level.size()) = mesh.level;
+  report();
   return copy;
 }
 
@@ -4792,9 +4805,7 @@ KeptRun keptRun(const RegionMesh& mesh,
     // neighbours and the run's first insertions took 0.14-0.17 s without one.)
     const ProgressReporter roundProgress =
       progress.sub(0.3 + 0.65 * round / kBoldRuns, 0.3 + 0.65 * (round + 1) / kBoldRuns);
-    roundProgress.report(0.0, kRefiningStage);
-    RegionMesh bold = roomyCopy(mesh);
-    roundProgress.report(0.0, kRefiningStage);
+    RegionMesh bold = roomyCopy(mesh, &roundProgress);
     Refiner run(bold, splitter, params, kBoldFloor, zones, roundProgress);
     run.adopt(base);
     const RefinementResult result = run.run(&firstBad); // (the same mesh as the cautious run's)
@@ -5058,17 +5069,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     std::optional<RegionMesh> before;
     if (last && amongRegions && params.minimumAngle > 0.0)
     {
-      // (Array by array, with progress between: at 1 M the copy's first writes took up to
-      // 0.15 s on a slow hour of this machine.)
-      const char* stage = kRefiningStage;
-      before.emplace();
-      withRoom(before->points, mesh.points.size()) = mesh.points;
-      part.report(0.0, stage);
-      withRoom(before->triangles, mesh.triangles.size()) = mesh.triangles;
-      part.report(0.0, stage);
-      withRoom(before->region, mesh.region.size()) = mesh.region;
-      withRoom(before->level, mesh.level.size()) = mesh.level;
-      part.report(0.0, stage);
+      before.emplace(roomyCopy(mesh, &part)); // (array by array, with progress between)
     }
     const RecoveryMemo* memo =
       pass > 0 ? &memos[(pass - 1) % 2] : (given.triangles.empty() ? nullptr : &given);

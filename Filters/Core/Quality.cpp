@@ -118,11 +118,11 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
     }
   }
   // Each triangle on its own: in blocks, each block's two halves at once for large meshes.
-  const std::size_t nt = triangles.size();
+  const std::size_t nt = triangles.size(), block = 4 * kTwoThreadBlock;
   std::size_t done = 0;
   blockwise(
     nt,
-    4 * kTwoThreadBlock,
+    block,
     kTwoThreadItems,
     [&](std::size_t from, std::size_t to, int)
     {
@@ -134,7 +134,7 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
     },
     [&]
     {
-      done = std::min(nt, done + 4 * kTwoThreadBlock);
+      done = std::min(nt, done + block);
       progress.report(static_cast<double>(done) / static_cast<double>(nt), stage);
     });
   return out;

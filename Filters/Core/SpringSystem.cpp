@@ -46,6 +46,28 @@ const char* const kSpringStage = "building the spring system";
 // triangles the projection springs' 3 M took up to 0.075 s in one go, mostly first writes.
 constexpr std::size_t kRestBlock = std::size_t(1) << 18;
 
+// Sets `rest` to the rest lengths of `per` springs for each of `items` items (edges, triangles):
+// written (for the first time) and filled, by fill(from, to) for the items [from, to), a block
+// at a time, with a progress report after each.
+template<class Fill>
+void restInBlocks(LargeVector<double>& rest,
+  std::size_t items,
+  std::size_t per,
+  const ProgressReporter& progress,
+  Fill&& fill)
+{
+  rest.clear();
+  rest.reserve(per * items);
+  const std::size_t block = kRestBlock / per;
+  for (std::size_t begin = 0; begin < items; begin += block)
+  {
+    const std::size_t end = std::min(items, begin + block);
+    rest.resize(per * end, 0.0);
+    fill(begin, end);
+    progress.report(0.0, kSpringStage);
+  }
+}
+
 void checkRange(bool ok, const char* name, double value, const char* range)
 {
   if (!ok)
@@ -219,20 +241,17 @@ void EdgeSprings::initializeWithProgress(const SpringMesh& mesh,
   const LargeVector<Vec2>& rest,
   const ProgressReporter& progress)
 {
-  // In blocks, each written (for the first time) and filled between two reports.
-  const std::size_t n = mesh.edges.size();
-  this->Rest.clear();
-  this->Rest.reserve(n);
-  for (std::size_t begin = 0; begin < n; begin += kRestBlock)
-  {
-    const std::size_t end = std::min(n, begin + kRestBlock);
-    this->Rest.resize(end);
-    for (std::size_t e = begin; e < end; ++e)
+  restInBlocks(this->Rest,
+    mesh.edges.size(),
+    1,
+    progress,
+    [&](std::size_t from, std::size_t to)
     {
-      this->Rest[e] = norm(rest[mesh.edges[e][0]] - rest[mesh.edges[e][1]]);
-    }
-    progress.report(0.0, kSpringStage);
-  }
+      for (std::size_t e = from; e < to; ++e)
+      {
+        this->Rest[e] = norm(rest[mesh.edges[e][0]] - rest[mesh.edges[e][1]]);
+      }
+    });
 }
 
 void EdgeSprings::flipped(const SpringMesh& mesh,
@@ -340,8 +359,7 @@ void ProjectionSprings::initializeWithProgress(const SpringMesh& mesh,
   const LargeVector<Vec2>& rest,
   const ProgressReporter& progress)
 {
-  // In blocks, each written (for the first time) and filled between two reports, the two
-  // halves of a large block at once.
+  // (The two halves of a large block at once.)
   const auto some = [&](std::size_t from, std::size_t to)
   {
     for (std::size_t t = from; t < to; ++t)
@@ -349,23 +367,22 @@ void ProjectionSprings::initializeWithProgress(const SpringMesh& mesh,
       this->restOf(mesh, rest, static_cast<int>(t));
     }
   };
-  const std::size_t n = mesh.triangles.size();
-  this->Rest.clear();
-  this->Rest.reserve(3 * n);
-  for (std::size_t begin = 0; begin < n; begin += kRestBlock / 3)
-  {
-    const std::size_t end = std::min(n, begin + kRestBlock / 3), middle = begin + (end - begin) / 2;
-    this->Rest.resize(3 * end, 0.0);
-    if (end - begin < kTwoThreadItems)
+  restInBlocks(this->Rest,
+    mesh.triangles.size(),
+    3,
+    progress,
+    [&](std::size_t from, std::size_t to)
     {
-      some(begin, end);
-    }
-    else
-    {
-      bothHalves([&] { some(begin, middle); }, [&] { some(middle, end); });
-    }
-    progress.report(0.0, kSpringStage);
-  }
+      const std::size_t middle = from + (to - from) / 2;
+      if (to - from < kTwoThreadItems)
+      {
+        some(from, to);
+      }
+      else
+      {
+        bothHalves([&] { some(from, middle); }, [&] { some(middle, to); });
+      }
+    });
 }
 
 void ProjectionSprings::flipped(const SpringMesh& mesh,
