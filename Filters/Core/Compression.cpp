@@ -2414,6 +2414,12 @@ void Compressor::buildCurveCells()
 // barycentre.
 int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
 {
+  const int region = this->cornerTag(a, b, c);
+  return region != kOnCurve ? region : this->regionAt((1.0 / 3.0) * (pa + pb + pc));
+}
+
+int Compressor::cornerTag(int a, int b, int c) const
+{
   int region = kOnCurve;
   for (int v : { a, b, c })
   {
@@ -2432,38 +2438,75 @@ int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
       break;
     }
   }
-  return region != kOnCurve ? region : this->regionAt((1.0 / 3.0) * (pa + pb + pc));
+  return region;
 }
 
 int Compressor::faceTag(int t)
 {
+  return this->faceTag(t, this->FieldScratch);
+}
+
+int Compressor::faceTag(int t, DistanceField::Scratch& field)
+{
   const auto& x = this->positions();
   const std::array<int, 3>& tri = this->Tri[t];
-  return this->faceTag(tri[0], tri[1], tri[2], x[tri[0]], x[tri[1]], x[tri[2]]);
+  const int region = this->cornerTag(tri[0], tri[1], tri[2]);
+  return region != kOnCurve
+    ? region
+    : this->Field.region((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]), field);
 }
 
 void Compressor::classifyFaces()
 {
+  // Queries only, each vertex's and each face's own answer (a vertex's kept grid distance is
+  // its own too): in blocks, each block's halves at once, the second with its own scratches.
   const std::size_t nv = this->Global.size();
+  const std::size_t nt = this->Tri.size();
+  if (nv >= kTwoThreadItems && !this->CurveCells)
+  {
+    this->buildCurveCells(); // (before the threads, which read it)
+  }
+  StripTreeScratch rail2;
+  DistanceField::Scratch field2;
   withRoom(this->VRegion, nv).resize(nv);
-  for (std::size_t i = 0; i < nv; ++i)
-  {
-    if (i % 8192 == 0)
+  std::size_t done = 0;
+  blockwise(
+    nv,
+    kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t from, std::size_t to, int part)
     {
-      this->Progress.report(0.7 + 0.05 * static_cast<double>(i) / nv, "classifying faces");
-    }
-    this->VRegion[i] = this->vertexRegion(static_cast<int>(i));
-  }
-  withRoom(this->Tag, this->Tri.size()).resize(this->Tri.size());
-  for (std::size_t t = 0; t < this->Tri.size(); ++t)
-  {
-    if (t % 8192 == 0)
+      StripTreeScratch& rail = part == 0 ? this->RailScratch : rail2;
+      DistanceField::Scratch& field = part == 0 ? this->FieldScratch : field2;
+      for (std::size_t i = from; i < to; ++i)
+      {
+        this->VRegion[i] = this->vertexRegion(static_cast<int>(i), rail, field);
+      }
+    },
+    [&]
     {
-      this->Progress.report(
-        0.75 + 0.05 * static_cast<double>(t) / this->Tri.size(), "classifying faces");
-    }
-    this->Tag[t] = this->faceTag(static_cast<int>(t));
-  }
+      done = std::min(nv, done + kTwoThreadBlock);
+      this->Progress.report(0.7 + 0.05 * static_cast<double>(done) / nv, "classifying faces");
+    });
+  withRoom(this->Tag, nt).resize(nt);
+  done = 0;
+  blockwise(
+    nt,
+    kTwoThreadBlock,
+    kTwoThreadItems,
+    [&](std::size_t from, std::size_t to, int part)
+    {
+      DistanceField::Scratch& field = part == 0 ? this->FieldScratch : field2;
+      for (std::size_t t = from; t < to; ++t)
+      {
+        this->Tag[t] = this->faceTag(static_cast<int>(t), field);
+      }
+    },
+    [&]
+    {
+      done = std::min(nt, done + kTwoThreadBlock);
+      this->Progress.report(0.75 + 0.05 * static_cast<double>(done) / nt, "classifying faces");
+    });
 }
 
 void Compressor::retagStar(int i)

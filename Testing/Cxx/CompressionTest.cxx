@@ -492,6 +492,36 @@ TEST(CompressionTest, AbortStopsTheSimulation)
   EXPECT_EQ(calls, 5);
 }
 
+// An abort at any of the set-up's progress reports (the sub-mesh's arrays, the spring system's
+// blocks, the states, the pushes' targets) stops the compression with Aborted and leaves
+// nothing behind: a run afterwards gives the same mesh as one before.
+TEST(CompressionTest, AnAbortAnywhereInTheSetUpStopsItCleanly)
+{
+  const Pipeline pipe(blob(), 16);
+  const strata::CompressionResult before = pipe.run();
+  int setUpReports = 0; // (the set-up reports at 0; the simulation from 0.1 on)
+  const strata::ProgressReporter count(
+    [&](double fraction, const char*)
+    {
+      setUpReports += fraction < 0.1;
+      return true;
+    });
+  strata::compress(pipe.mesh, pipe.cls, *pipe.model, *pipe.field, {}, count);
+  ASSERT_GE(setUpReports, 8);
+  for (int k = 1; k <= setUpReports; ++k)
+  {
+    int calls = 0;
+    const strata::ProgressReporter stop([&](double, const char*) { return ++calls < k; });
+    EXPECT_THROW(
+      strata::compress(pipe.mesh, pipe.cls, *pipe.model, *pipe.field, {}, stop), strata::Aborted);
+    EXPECT_EQ(calls, k);
+  }
+  const strata::CompressionResult after = pipe.run();
+  EXPECT_EQ(after.points, before.points);
+  EXPECT_EQ(after.triangles, before.triangles);
+  EXPECT_EQ(after.triangleRegion, before.triangleRegion);
+}
+
 // A large mesh's simulation is split in two halves on two threads (SpringParams::splitSprings);
 // forced on small meshes, the compressed mesh keeps every invariant of the serial one and
 // about the same numbers.
