@@ -522,6 +522,40 @@ TEST(CompressionTest, AnAbortAnywhereInTheSetUpStopsItCleanly)
   EXPECT_EQ(after.triangleRegion, before.triangleRegion);
 }
 
+// Section 5 on a mesh large enough for the face classification's two threads (from 65536
+// vertices of the sub-mesh): every face takes the region its corners off the curves agree
+// on, else the region of its barycentre.
+TEST(CompressionTest, FacesOfALargeMeshTakeTheirCornersOrBarycentresRegion)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("gulf_section.vtp")), 19);
+  strata::CompressionParams params;
+  params.optimize = false; // (the regions as the classification left them)
+  const strata::CompressionResult r = pipe.run(params);
+  ASSERT_GE(r.simulatedVertices, 65536u);
+  strata::DistanceField::Scratch scratch;
+  std::size_t byCorners = 0, byBarycentre = 0;
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const auto& tri = r.triangles[t];
+    int agreed = -2; // none yet; -3: they differ
+    for (const int v : tri)
+    {
+      if (r.vertexState[v] == strata::VertexOnCurve || r.vertexState[v] == strata::VertexPinned)
+      {
+        continue;
+      }
+      const int region = pipe.field->region(r.points[v], scratch);
+      agreed = agreed == -2 || agreed == region ? region : -3;
+    }
+    const Vec2 g = (1.0 / 3.0) * (r.points[tri[0]] + r.points[tri[1]] + r.points[tri[2]]);
+    const int expected = agreed >= -1 ? agreed : pipe.field->region(g, scratch);
+    (agreed >= -1 ? byCorners : byBarycentre) += 1;
+    ASSERT_EQ(r.triangleRegion[t], expected) << "triangle " << t;
+  }
+  EXPECT_GT(byCorners, 0u);
+  EXPECT_GT(byBarycentre, 0u);
+}
+
 // A large mesh's simulation is split in two halves on two threads (SpringParams::splitSprings);
 // forced on small meshes, the compressed mesh keeps every invariant of the serial one and
 // about the same numbers.
