@@ -2414,11 +2414,16 @@ void Compressor::buildCurveCells()
 // barycentre.
 int Compressor::faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc)
 {
-  const int region = this->cornerTag(a, b, c);
-  return region != kOnCurve ? region : this->regionAt((1.0 / 3.0) * (pa + pb + pc));
+  return this->faceTag(a, b, c, pa, pb, pc, this->FieldScratch);
 }
 
-int Compressor::cornerTag(int a, int b, int c) const
+int Compressor::faceTag(int a,
+  int b,
+  int c,
+  Vec2 pa,
+  Vec2 pb,
+  Vec2 pc,
+  DistanceField::Scratch& field)
 {
   int region = kOnCurve;
   for (int v : { a, b, c })
@@ -2438,7 +2443,7 @@ int Compressor::cornerTag(int a, int b, int c) const
       break;
     }
   }
-  return region;
+  return region != kOnCurve ? region : this->Field.region((1.0 / 3.0) * (pa + pb + pc), field);
 }
 
 int Compressor::faceTag(int t)
@@ -2450,10 +2455,7 @@ int Compressor::faceTag(int t, DistanceField::Scratch& field)
 {
   const auto& x = this->positions();
   const std::array<int, 3>& tri = this->Tri[t];
-  const int region = this->cornerTag(tri[0], tri[1], tri[2]);
-  return region != kOnCurve
-    ? region
-    : this->Field.region((1.0 / 3.0) * (x[tri[0]] + x[tri[1]] + x[tri[2]]), field);
+  return this->faceTag(tri[0], tri[1], tri[2], x[tri[0]], x[tri[1]], x[tri[2]], field);
 }
 
 void Compressor::classifyFaces()

@@ -167,8 +167,7 @@ private:
   int vertexRegion(int i) { return this->vertexRegion(i, this->RailScratch, this->FieldScratch); }
   int vertexRegion(int i, StripTreeScratch& rail, DistanceField::Scratch& field);
   int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc);
-  // The region its corners off the curves agree on, kOnCurve when they do not settle it.
-  int cornerTag(int a, int b, int c) const;
+  int faceTag(int a, int b, int c, Vec2 pa, Vec2 pb, Vec2 pc, DistanceField::Scratch& field);
   int faceTag(int t);
   int faceTag(int t, DistanceField::Scratch& field);
   void classifyFaces();
