@@ -124,7 +124,6 @@ Classification classify(const TriangleMesh& mesh,
     {
       parts[1].emplace(model);
     }
-    std::size_t done = 0;
     blockwise(
       n,
       kTwoThreadBlock,
@@ -136,9 +135,7 @@ Classification classify(const TriangleMesh& mesh,
           work(i, *parts[which]);
         }
       },
-      [&]
-      {
-        done = std::min(n, done + kTwoThreadBlock);
+      [&](std::size_t done) {
         progress.report(from + (to - from) * static_cast<double>(done) / n, "classifying the grid");
       });
   };

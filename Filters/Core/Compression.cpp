@@ -2471,7 +2471,6 @@ void Compressor::classifyFaces()
   StripTreeScratch rail2;
   DistanceField::Scratch field2;
   withRoom(this->VRegion, nv).resize(nv);
-  std::size_t done = 0;
   blockwise(
     nv,
     kTwoThreadBlock,
@@ -2485,13 +2484,9 @@ void Compressor::classifyFaces()
         this->VRegion[i] = this->vertexRegion(static_cast<int>(i), rail, field);
       }
     },
-    [&]
-    {
-      done = std::min(nv, done + kTwoThreadBlock);
-      this->Progress.report(0.7 + 0.05 * static_cast<double>(done) / nv, "classifying faces");
-    });
+    [&](std::size_t done)
+    { this->Progress.report(0.7 + 0.05 * static_cast<double>(done) / nv, "classifying faces"); });
   withRoom(this->Tag, nt).resize(nt);
-  done = 0;
   blockwise(
     nt,
     kTwoThreadBlock,
@@ -2504,11 +2499,8 @@ void Compressor::classifyFaces()
         this->Tag[t] = this->faceTag(static_cast<int>(t), field);
       }
     },
-    [&]
-    {
-      done = std::min(nt, done + kTwoThreadBlock);
-      this->Progress.report(0.75 + 0.05 * static_cast<double>(done) / nt, "classifying faces");
-    });
+    [&](std::size_t done)
+    { this->Progress.report(0.75 + 0.05 * static_cast<double>(done) / nt, "classifying faces"); });
 }
 
 void Compressor::retagStar(int i)

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <system_error>
 #include <thread>
+#include <type_traits>
 #include <vector>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -293,8 +294,8 @@ private:
 /// Runs work(from, to, part) over [0, n) in blocks of at most `block` items, in order: each
 /// block's two halves at once (bothHalves: part 0 on this thread, part 1 perhaps on another)
 /// when n >= threaded, else the whole block as part 0. After each block, after() runs on this
-/// thread: it merges the parts' results in order and may report progress (and throw Aborted);
-/// work() may not throw.
+/// thread, or after(done) with the items done so far (the block's end): it merges the parts'
+/// results in order and may report progress (and throw Aborted); work() may not throw.
 template<class Work, class After>
 void blockwise(std::size_t n, std::size_t block, std::size_t threaded, Work&& work, After&& after)
 {
@@ -310,7 +311,14 @@ void blockwise(std::size_t n, std::size_t block, std::size_t threaded, Work&& wo
       const std::size_t middle = begin + (end - begin) / 2;
       bothHalves([&] { work(begin, middle, 0); }, [&] { work(middle, end, 1); });
     }
-    after();
+    if constexpr (std::is_invocable_v<After&, std::size_t>)
+    {
+      after(end);
+    }
+    else
+    {
+      after();
+    }
   }
 }
 

@@ -118,11 +118,10 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
     }
   }
   // Each triangle on its own: in blocks, each block's two halves at once for large meshes.
-  const std::size_t nt = triangles.size(), block = 4 * kTwoThreadBlock;
-  std::size_t done = 0;
+  const std::size_t nt = triangles.size();
   blockwise(
     nt,
-    block,
+    4 * kTwoThreadBlock,
     kTwoThreadItems,
     [&](std::size_t from, std::size_t to, int)
     {
@@ -132,11 +131,8 @@ LargeVector<TriangleQuality> triangleQualities(const LargeVector<Vec2>& points,
         out[t] = triangleQuality(points[tri[0]], points[tri[1]], points[tri[2]]);
       }
     },
-    [&]
-    {
-      done = std::min(nt, done + block);
-      progress.report(static_cast<double>(done) / static_cast<double>(nt), stage);
-    });
+    [&](std::size_t done)
+    { progress.report(static_cast<double>(done) / static_cast<double>(nt), stage); });
   return out;
 }
 

@@ -90,6 +90,33 @@ TEST(ParallelTest, BlockwiseVisitsEveryItemOnceAndMergesInOrder)
   EXPECT_TRUE(run(0, 64, 0).ends.empty());
 }
 
+TEST(ParallelTest, BlockwiseTellsAnAfterThatTakesACountTheItemsDoneSoFar)
+{
+  // after(done) gets each block's end: 15 blocks of 64 and one of 40, with or without threads.
+  for (const std::size_t threaded : { std::size_t(0), std::size_t(1000000) })
+  {
+    SCOPED_TRACE(threaded);
+    std::atomic<std::size_t> visited{ 0 };
+    std::vector<std::size_t> done, seen;
+    strata::blockwise(
+      1000,
+      64,
+      threaded,
+      [&](std::size_t from, std::size_t to, int) { visited += to - from; },
+      [&](std::size_t items)
+      {
+        done.push_back(items);
+        seen.push_back(visited.load());
+      });
+    ASSERT_EQ(done.size(), 16u);
+    for (std::size_t b = 0; b < done.size(); ++b)
+    {
+      EXPECT_EQ(done[b], std::min<std::size_t>(1000, 64 * (b + 1)));
+    }
+    EXPECT_EQ(done, seen);
+  }
+}
+
 TEST(ParallelTest, AnExceptionBetweenBlocksLeavesNoThreadRunning)
 {
   // The merge after a block may throw (a progress report's abort): the block's threads have
