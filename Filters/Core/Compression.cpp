@@ -686,7 +686,7 @@ void Compressor::buildGlobalStars()
     this->GStarStart[i + 1] += this->GStarStart[i];
   }
   this->GStarItems.resize(this->GStarStart.back());
-  std::vector<int> fill(this->GStarStart.begin(), this->GStarStart.end() - 1);
+  LargeVector<int> fill(this->GStarStart.begin(), this->GStarStart.end() - 1);
   for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
   {
     this->poll(t);
@@ -1249,7 +1249,7 @@ void Compressor::rebuildStars()
     count(0, nt, this->StarStart.data() + 1);
   }
   this->Progress.report(this->At, this->Stage);
-  std::vector<int> fill(nv);
+  LargeVector<int> fill(nv);
   for (std::size_t i = 0; i < nv; ++i)
   {
     const int first = this->StarStart[i + 1];
@@ -1306,7 +1306,7 @@ void Compressor::updateStars()
   sortUnique(flipped);
   this->FlippedMark.resize(this->Tri.size(), 0);
   // (vertex, triangle) of the flipped triangles now, by vertex then triangle.
-  std::vector<std::pair<int, int>> now;
+  LargeVector<std::pair<int, int>> now;
   now.reserve(3 * flipped.size());
   for (int t : flipped)
   {
@@ -1398,7 +1398,7 @@ bool Compressor::nearClaimedStop(const Location& l, double reach) const
 // pushed vertex closest to it; the others aim beside it.
 void Compressor::claimStopPoints()
 {
-  std::vector<std::pair<double, int>> order;
+  LargeVector<std::pair<double, int>> order;
   const auto& x = this->positions();
   for (int i = 0; i < this->NumActive; ++i)
   {
@@ -1432,7 +1432,7 @@ void Compressor::spreadTargets()
     Location l;
     int vertex;
   };
-  std::vector<Item> items;
+  LargeVector<Item> items;
   for (int i = 0; i < this->NumActive; ++i)
   {
     if (this->St[i] == Pushing && !this->junctionBound(i))

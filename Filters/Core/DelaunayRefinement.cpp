@@ -547,14 +547,14 @@ public:
   /// From here on, dissolveCorners() cuts the tip of every sharp region corner (2c: the
   /// curve recovery's last pass).
   void cutEveryTip() { this->EveryTip = true; }
-  std::size_t dissolveThinPieces(std::vector<int>& piece,
+  std::size_t dissolveThinPieces(LargeVector<int>& piece,
     std::map<int, double>& regionTwice,
     std::map<int, std::size_t>& count);
   /// The vertices cutTips inserted (on boundary edges) since construction.
   std::size_t tipVertices() const { return this->TipVertices; }
   /// Region edges longer than maximumEdgeLength split (2d): returns the vertices inserted.
   std::size_t splitLongEdges();
-  std::vector<int> pieces() const;
+  LargeVector<int> pieces() const;
   bool hasThinPiece() const;
   /// Smoothing of the vertices of the triangles below the bound: returns the moves.
   std::size_t smoothBad();
@@ -1847,10 +1847,10 @@ std::size_t Refiner::splitLongEdges()
 
 // The pieces of the regions (triangles joined across edges that are not constrained): the
 // piece of each triangle.
-std::vector<int> Refiner::pieces() const
+LargeVector<int> Refiner::pieces() const
 {
   const std::size_t nt = this->M.triangles.size();
-  std::vector<int> piece(nt, -1);
+  LargeVector<int> piece(nt, -1);
   std::vector<int> stack;
   int id = 0;
   for (std::size_t t0 = 0; t0 < nt; ++t0)
@@ -1940,7 +1940,7 @@ std::size_t Refiner::followCurves()
   }
   // The region boundary edges of the given triangles, each once (from its region side).
   std::vector<std::pair<int, int>> todo;
-  const auto collect = [&](const std::vector<int>& triangles)
+  const auto collect = [&](const auto& triangles)
   {
     todo.clear();
     for (int t : triangles)
@@ -1957,7 +1957,7 @@ std::size_t Refiner::followCurves()
     }
     sortUnique(todo);
   };
-  std::vector<int> all(this->M.triangles.size());
+  LargeVector<int> all(this->M.triangles.size());
   std::iota(all.begin(), all.end(), 0);
   collect(all);
   // A region whose boundary edges cut off more than curveAreaBudget of its area in all (a
@@ -2480,7 +2480,7 @@ std::size_t Refiner::dissolveCorners()
   // triangle asks (at 1 M neither, mostly: 0.04 s a sweep); until then the retags are
   // journalled, so that the pieces are those of the mesh before them, followed by the retags,
   // as if made first.
-  std::vector<int> piece;
+  LargeVector<int> piece;
   bool havePieces = false;
   const auto makePieces = [&]()
   {
@@ -2649,7 +2649,7 @@ std::size_t Refiner::dissolveCorners()
 // take the vertices left inside its new region). Not within the reach of a corner of its
 // region to keep (step 7: before it ran, or when it kept the corner). Returns the triangles
 // retagged; `piece`, `regionTwice` and `count` follow.
-std::size_t Refiner::dissolveThinPieces(std::vector<int>& piece,
+std::size_t Refiner::dissolveThinPieces(LargeVector<int>& piece,
   std::map<int, double>& regionTwice,
   std::map<int, std::size_t>& count)
 {
@@ -4300,7 +4300,7 @@ PointStars pointStars(std::size_t numberOfPoints,
     stars.start[i + 1] += stars.start[i];
   }
   stars.items.resize(stars.start.back());
-  std::vector<int> fill(stars.start.begin(), stars.start.end() - 1);
+  LargeVector<int> fill(stars.start.begin(), stars.start.end() - 1);
   for (std::size_t t = 0; t < triangles.size(); ++t)
   {
     for (int v : triangles[t])

@@ -499,7 +499,7 @@ void BoundaryIndex::build(const Model& model, Vec2 origin, double side)
   }
   this->NodeItems.resize(this->Nodes.size());
   {
-    std::vector<int> fill(this->NodeStart.begin(), this->NodeStart.end() - 1);
+    LargeVector<int> fill(this->NodeStart.begin(), this->NodeStart.end() - 1);
     for (std::size_t i = 0; i < this->Nodes.size(); ++i)
     {
       const Vec2 p = this->Nodes[i];
@@ -519,7 +519,7 @@ void BoundaryIndex::build(const Model& model, Vec2 origin, double side)
   }
   this->SegItems.resize(this->SegStart.back());
   {
-    std::vector<int> fill(this->SegStart.begin(), this->SegStart.end() - 1);
+    LargeVector<int> fill(this->SegStart.begin(), this->SegStart.end() - 1);
     for (std::size_t s = 0; s < ns; ++s)
     {
       forSegmentCells(static_cast<int>(s),

@@ -116,7 +116,7 @@ private:
   double CellSize = 1.0;
   double InvCell = 1.0;
   int Cells = 1; // per axis
-  std::vector<int> SegStart, SegItems, NodeStart, NodeItems;
+  LargeVector<int> SegStart, SegItems, NodeStart, NodeItems; // (offsets: 4 MiB at 1024^2 cells)
   std::vector<std::uint32_t> Stamp;
   std::uint32_t CurrentStamp = 0;
   std::vector<int> Hits;

@@ -1182,7 +1182,7 @@ double regionArea(const Region& region)
 // holds (b, t) for each edge a -> b of triangle t (counter-clockwise).
 struct DirectedEdges
 {
-  std::vector<int> start;
+  LargeVector<int> start;
   LargeVector<std::pair<int, int>> out;
 
   DirectedEdges(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles)
@@ -1200,7 +1200,7 @@ struct DirectedEdges
       this->start[i + 1] += this->start[i];
     }
     this->out.resize(this->start.back());
-    std::vector<int> fill(this->start.begin(), this->start.end() - 1);
+    LargeVector<int> fill(this->start.begin(), this->start.end() - 1);
     for (std::size_t t = 0; t < triangles.size(); ++t)
     {
       for (int k = 0; k < 3; ++k)
