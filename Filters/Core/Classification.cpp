@@ -41,6 +41,7 @@
 
 #include "Errors.h"
 #include "Parallel.h"
+#include "Rows.h"
 #include "UnionFind.h"
 
 #include <algorithm>
@@ -144,30 +145,24 @@ Classification classify(const TriangleMesh& mesh,
   { return known ? mesh.pointBoundaryDistance[i] : std::numeric_limits<double>::quiet_NaN(); };
 
   // 1. Unique edges: rows of the smaller end point.
-  LargeVector<int> rowStart(np + 1, 0);
-  for (const std::array<int, 3>& tri : mesh.triangles)
+  LargeVector<int> rowStart;
   {
-    for (int k = 0; k < 3; ++k)
-    {
-      ++rowStart[std::min(tri[k], tri[(k + 1) % 3]) + 1];
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    rowStart[i + 1] += rowStart[i];
-  }
-  {
-    LargeVector<int> other(rowStart.back());
-    LargeVector<int> fill(rowStart.begin(), rowStart.end() - 1);
-    for (const std::array<int, 3>& tri : mesh.triangles)
-    {
-      for (int k = 0; k < 3; ++k)
+    LargeVector<int> other;
+    groupIntoRows(np,
+      rowStart,
+      other,
+      [&](auto&& emit)
       {
-        const int a = tri[k];
-        const int b = tri[(k + 1) % 3];
-        other[fill[std::min(a, b)]++] = std::max(a, b);
-      }
-    }
+        for (const std::array<int, 3>& tri : mesh.triangles)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            const int a = tri[k];
+            const int b = tri[(k + 1) % 3];
+            emit(std::min(a, b), std::max(a, b));
+          }
+        }
+      });
     c.edges.reserve(other.size() / 2 + np);
     for (std::size_t i = 0; i < np; ++i)
     {

@@ -69,6 +69,7 @@
 #include "Errors.h"
 #include "Parallel.h"
 #include "Quality.h"
+#include "Rows.h"
 
 #include <algorithm>
 #include <chrono>
@@ -246,25 +247,18 @@ BoundaryRails::BoundaryRails(const Model& model, double featureAngle)
 
   // Node -> incident segments.
   const std::size_t nn = model.nodes.size();
-  std::vector<int> start(nn + 1, 0);
-  for (const Seg& s : segs)
-  {
-    ++start[s.lo + 1];
-    ++start[s.hi + 1];
-  }
-  for (std::size_t i = 0; i < nn; ++i)
-  {
-    start[i + 1] += start[i];
-  }
-  std::vector<int> incident(start.back());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t s = 0; s < segs.size(); ++s)
+  std::vector<int> start, incident;
+  groupIntoRows(nn,
+    start,
+    incident,
+    [&](auto&& emit)
     {
-      incident[fill[segs[s].lo]++] = static_cast<int>(s);
-      incident[fill[segs[s].hi]++] = static_cast<int>(s);
-    }
-  }
+      for (std::size_t s = 0; s < segs.size(); ++s)
+      {
+        emit(segs[s].lo, static_cast<int>(s));
+        emit(segs[s].hi, static_cast<int>(s));
+      }
+    });
   auto degree = [&](int node) { return start[node + 1] - start[node]; };
   std::vector<std::uint8_t> used(segs.size(), 0);
 
@@ -671,30 +665,20 @@ namespace detail
 // Set-up.
 void Compressor::buildGlobalStars()
 {
-  const std::size_t np = this->Grid.points.size();
-  this->GStarStart.assign(np + 1, 0);
-  for (const std::array<int, 3>& t : this->Grid.triangles)
-  {
-    for (int v : t)
+  groupIntoRows(this->Grid.points.size(),
+    this->GStarStart,
+    this->GStarItems,
+    [&](auto&& emit)
     {
-      ++this->GStarStart[v + 1];
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    this->poll(i);
-    this->GStarStart[i + 1] += this->GStarStart[i];
-  }
-  this->GStarItems.resize(this->GStarStart.back());
-  LargeVector<int> fill(this->GStarStart.begin(), this->GStarStart.end() - 1);
-  for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
-  {
-    this->poll(t);
-    for (int v : this->Grid.triangles[t])
-    {
-      this->GStarItems[fill[v]++] = static_cast<int>(t);
-    }
-  }
+      for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
+      {
+        this->poll(t);
+        for (int v : this->Grid.triangles[t])
+        {
+          emit(v, static_cast<int>(t));
+        }
+      }
+    });
 }
 
 // A vertex whose triangles do not close around it lies on the mesh border.
@@ -822,23 +806,17 @@ void Compressor::placeJunctions()
   { return std::clamp(static_cast<int>((v - lo) / cellSize), 0, cells - 1); };
   const auto cellIndex = [&](Vec2 p)
   { return cellOf(p.y, box.min.y) * cells + cellOf(p.x, box.min.x); };
-  LargeVector<int> start(static_cast<std::size_t>(cells) * cells + 1, 0);
-  for (int v : cand)
-  {
-    ++start[cellIndex(this->Points[v]) + 1];
-  }
-  for (std::size_t i = 1; i < start.size(); ++i)
-  {
-    start[i] += start[i - 1];
-  }
-  LargeVector<int> items(cand.size());
-  {
-    LargeVector<int> fill(start.begin(), start.end() - 1);
-    for (int v : cand)
+  LargeVector<int> start, items;
+  groupIntoRows(static_cast<std::size_t>(cells) * cells,
+    start,
+    items,
+    [&](auto&& emit)
     {
-      items[fill[cellIndex(this->Points[v])]++] = v;
-    }
-  }
+      for (int v : cand)
+      {
+        emit(cellIndex(this->Points[v]), v);
+      }
+    });
   LargeVector<double> minTwice(this->Grid.triangles.size());
   for (std::size_t t = 0; t < minTwice.size(); ++t)
   {

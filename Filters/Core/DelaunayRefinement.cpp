@@ -285,6 +285,7 @@
 #include "Errors.h"
 #include "Parallel.h"
 #include "Quality.h"
+#include "Rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -4287,30 +4288,22 @@ PointStars pointStars(std::size_t numberOfPoints,
   const std::vector<char>* only)
 {
   PointStars stars;
-  stars.start.assign(numberOfPoints + 1, 0);
-  for (const auto& tri : triangles)
-  {
-    for (int v : tri)
+  groupIntoRows(numberOfPoints,
+    stars.start,
+    stars.items,
+    [&](auto&& emit)
     {
-      stars.start[v + 1] += !only || (*only)[v];
-    }
-  }
-  for (std::size_t i = 0; i < numberOfPoints; ++i)
-  {
-    stars.start[i + 1] += stars.start[i];
-  }
-  stars.items.resize(stars.start.back());
-  LargeVector<int> fill(stars.start.begin(), stars.start.end() - 1);
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-  {
-    for (int v : triangles[t])
-    {
-      if (!only || (*only)[v])
+      for (std::size_t t = 0; t < triangles.size(); ++t)
       {
-        stars.items[fill[v]++] = static_cast<int>(t);
+        for (int v : triangles[t])
+        {
+          if (!only || (*only)[v])
+          {
+            emit(v, static_cast<int>(t));
+          }
+        }
       }
-    }
-  }
+    });
   return stars;
 }
 

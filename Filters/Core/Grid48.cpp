@@ -137,6 +137,7 @@
 #include "Grid48.h"
 
 #include "Errors.h"
+#include "Rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -399,25 +400,18 @@ void BoundaryIndex::build(const Model& model, Vec2 origin, double side)
 
   // Node -> incident segments (CSR).
   const std::size_t nodeCount = model.nodes.size();
-  std::vector<int> start(nodeCount + 1, 0);
-  for (const Seg& s : segs)
-  {
-    ++start[s.u + 1];
-    ++start[s.v + 1];
-  }
-  for (std::size_t i = 0; i < nodeCount; ++i)
-  {
-    start[i + 1] += start[i];
-  }
-  std::vector<int> incident(start.back());
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t k = 0; k < segs.size(); ++k)
+  std::vector<int> start, incident;
+  groupIntoRows(nodeCount,
+    start,
+    incident,
+    [&](auto&& emit)
     {
-      incident[fill[segs[k].u]++] = static_cast<int>(k);
-      incident[fill[segs[k].v]++] = static_cast<int>(k);
-    }
-  }
+      for (std::size_t k = 0; k < segs.size(); ++k)
+      {
+        emit(segs[k].u, static_cast<int>(k));
+        emit(segs[k].v, static_cast<int>(k));
+      }
+    });
   auto degree = [&](int node) { return start[node + 1] - start[node]; };
 
   // Chains through nodes of degree 2.
@@ -488,44 +482,28 @@ void BoundaryIndex::build(const Model& model, Vec2 origin, double side)
   this->InvCell = 1.0 / this->CellSize;
   const std::size_t cellCount = static_cast<std::size_t>(this->Cells) * this->Cells;
 
-  this->NodeStart.assign(cellCount + 1, 0);
-  for (const Vec2& p : this->Nodes)
-  {
-    ++this->NodeStart[static_cast<std::size_t>(cellY(p.y)) * this->Cells + cellX(p.x) + 1];
-  }
-  for (std::size_t i = 0; i < cellCount; ++i)
-  {
-    this->NodeStart[i + 1] += this->NodeStart[i];
-  }
-  this->NodeItems.resize(this->Nodes.size());
-  {
-    LargeVector<int> fill(this->NodeStart.begin(), this->NodeStart.end() - 1);
-    for (std::size_t i = 0; i < this->Nodes.size(); ++i)
+  groupIntoRows(cellCount,
+    this->NodeStart,
+    this->NodeItems,
+    [&](auto&& emit)
     {
-      const Vec2 p = this->Nodes[i];
-      this->NodeItems[fill[static_cast<std::size_t>(cellY(p.y)) * this->Cells + cellX(p.x)]++] =
-        static_cast<int>(i);
-    }
-  }
-
-  this->SegStart.assign(cellCount + 1, 0);
-  for (std::size_t s = 0; s < ns; ++s)
-  {
-    forSegmentCells(static_cast<int>(s), [&](std::size_t cell) { ++this->SegStart[cell + 1]; });
-  }
-  for (std::size_t i = 0; i < cellCount; ++i)
-  {
-    this->SegStart[i + 1] += this->SegStart[i];
-  }
-  this->SegItems.resize(this->SegStart.back());
-  {
-    LargeVector<int> fill(this->SegStart.begin(), this->SegStart.end() - 1);
-    for (std::size_t s = 0; s < ns; ++s)
+      for (std::size_t i = 0; i < this->Nodes.size(); ++i)
+      {
+        const Vec2 p = this->Nodes[i];
+        emit(static_cast<std::size_t>(cellY(p.y)) * this->Cells + cellX(p.x), static_cast<int>(i));
+      }
+    });
+  groupIntoRows(cellCount,
+    this->SegStart,
+    this->SegItems,
+    [&](auto&& emit)
     {
-      forSegmentCells(static_cast<int>(s),
-        [&](std::size_t cell) { this->SegItems[fill[cell]++] = static_cast<int>(s); });
-    }
-  }
+      for (std::size_t s = 0; s < ns; ++s)
+      {
+        forSegmentCells(
+          static_cast<int>(s), [&](std::size_t cell) { emit(cell, static_cast<int>(s)); });
+      }
+    });
   this->Stamp.assign(ns, 0);
 }
 

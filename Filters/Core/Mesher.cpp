@@ -45,6 +45,7 @@
 #include "Errors.h"
 #include "Parallel.h"
 #include "Quality.h"
+#include "Rows.h"
 #include "StripTree.h"
 #include "UnionFind.h"
 
@@ -1186,28 +1187,20 @@ struct DirectedEdges
   LargeVector<std::pair<int, int>> out;
 
   DirectedEdges(std::size_t numberOfPoints, const LargeVector<std::array<int, 3>>& triangles)
-    : start(numberOfPoints + 1, 0)
   {
-    for (const auto& tri : triangles)
-    {
-      for (int k = 0; k < 3; ++k)
+    groupIntoRows(numberOfPoints,
+      this->start,
+      this->out,
+      [&](auto&& emit)
       {
-        ++this->start[tri[k] + 1];
-      }
-    }
-    for (std::size_t i = 0; i < numberOfPoints; ++i)
-    {
-      this->start[i + 1] += this->start[i];
-    }
-    this->out.resize(this->start.back());
-    LargeVector<int> fill(this->start.begin(), this->start.end() - 1);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        this->out[fill[triangles[t][k]]++] = { triangles[t][(k + 1) % 3], static_cast<int>(t) };
-      }
-    }
+        for (std::size_t t = 0; t < triangles.size(); ++t)
+        {
+          for (int k = 0; k < 3; ++k)
+          {
+            emit(triangles[t][k], std::make_pair(triangles[t][(k + 1) % 3], static_cast<int>(t)));
+          }
+        }
+      });
   }
 
   // The triangle of the edge b -> a (the twin of a -> b), or -1.
@@ -1424,35 +1417,24 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
   }
   const std::size_t np = points.size();
   // Directed edges of the kept triangles, by start vertex.
-  LargeVector<int> start(np + 1, 0);
-  for (std::size_t t = 0; t < triangles.size(); ++t)
-  {
-    if (region[t] >= 0)
+  LargeVector<int> start;
+  LargeVector<std::pair<int, int>> out; // (end vertex, region of the left face)
+  groupIntoRows(np,
+    start,
+    out,
+    [&](auto&& emit)
     {
-      for (int k = 0; k < 3; ++k)
+      for (std::size_t t = 0; t < triangles.size(); ++t)
       {
-        ++start[triangles[t][k] + 1];
-      }
-    }
-  }
-  for (std::size_t i = 0; i < np; ++i)
-  {
-    start[i + 1] += start[i];
-  }
-  LargeVector<std::pair<int, int>> out(start.back()); // (end vertex, region of the left face)
-  {
-    LargeVector<int> fill(start.begin(), start.end() - 1);
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-    {
-      if (region[t] >= 0)
-      {
-        for (int k = 0; k < 3; ++k)
+        if (region[t] >= 0)
         {
-          out[fill[triangles[t][k]]++] = { triangles[t][(k + 1) % 3], region[t] };
+          for (int k = 0; k < 3; ++k)
+          {
+            emit(triangles[t][k], std::make_pair(triangles[t][(k + 1) % 3], region[t]));
+          }
         }
       }
-    }
-  }
+    });
   auto leftOf = [&](int a, int b)
   {
     for (int s = start[a]; s < start[a + 1]; ++s)

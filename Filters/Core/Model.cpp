@@ -46,6 +46,7 @@
 #include "Model.h"
 
 #include "Errors.h"
+#include "Rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -599,40 +600,26 @@ public:
     this->Rows = static_cast<int>(std::clamp(rows, 1.0, 1048576.0));
     this->Y0 = box.min.y;
     this->InvH = height > 0.0 ? this->Rows / height : 0.0;
-    std::vector<std::size_t> count(this->Rows + 1, 0);
-    for (int pass = 0; pass < 2; ++pass)
-    {
-      for (std::size_t r = 0; r < rings.size(); ++r)
+    groupIntoRows(static_cast<std::size_t>(this->Rows),
+      this->Start,
+      this->Entries,
+      [&](auto&& emit)
       {
-        const std::vector<Vec2>& pts = rings[r].points;
-        const std::size_t m = pts.size();
-        for (std::size_t j = 0; j < m; ++j)
+        for (std::size_t r = 0; r < rings.size(); ++r)
         {
-          const Vec2 a = pts[j], b = pts[(j + 1) % m];
-          const int r0 = this->row(std::min(a.y, b.y)), r1 = this->row(std::max(a.y, b.y));
-          for (int w = r0; w <= r1; ++w)
+          const std::vector<Vec2>& pts = rings[r].points;
+          const std::size_t m = pts.size();
+          for (std::size_t j = 0; j < m; ++j)
           {
-            if (pass == 0)
+            const Vec2 a = pts[j], b = pts[(j + 1) % m];
+            const int r0 = this->row(std::min(a.y, b.y)), r1 = this->row(std::max(a.y, b.y));
+            for (int w = r0; w <= r1; ++w)
             {
-              ++count[w + 1];
-            }
-            else
-            {
-              this->Entries[count[w]++] = { static_cast<int>(r), static_cast<int>(j) };
+              emit(w, std::make_pair(static_cast<int>(r), static_cast<int>(j)));
             }
           }
         }
-      }
-      if (pass == 0)
-      {
-        for (int w = 0; w < this->Rows; ++w)
-        {
-          count[w + 1] += count[w];
-        }
-        this->Start = count;
-        this->Entries.resize(count[this->Rows]);
-      }
-    }
+      });
   }
 
   /// Appends the ring of every segment that the ray from p towards +x crosses.
@@ -892,23 +879,17 @@ std::map<int, std::vector<Ring>> traceFaces(const Model& model, const std::vecto
   auto cell = [&](std::size_t h) { return model.curves[pieceCurve[h / 2]].sourceCell; };
 
   // Outgoing half-curves of every node, counter-clockwise by the direction of the first segment.
-  std::vector<std::size_t> nodeStart(P.size() + 1, 0);
-  for (std::size_t h = 0; h < halves; ++h)
-  {
-    ++nodeStart[first(h) + 1];
-  }
-  for (std::size_t v = 0; v < P.size(); ++v)
-  {
-    nodeStart[v + 1] += nodeStart[v];
-  }
-  std::vector<std::size_t> out(halves);
-  {
-    std::vector<std::size_t> fill(nodeStart.begin(), nodeStart.end() - 1);
-    for (std::size_t h = 0; h < halves; ++h)
+  std::vector<std::size_t> nodeStart, out;
+  groupIntoRows(P.size(),
+    nodeStart,
+    out,
+    [&](auto&& emit)
     {
-      out[fill[first(h)]++] = h;
-    }
-  }
+      for (std::size_t h = 0; h < halves; ++h)
+      {
+        emit(first(h), h);
+      }
+    });
   auto upper = [](Vec2 d) { return d.y > 0 || (d.y == 0 && d.x > 0); };
   std::vector<std::size_t> position(halves);
   for (std::size_t v = 0; v < P.size(); ++v)
@@ -1365,23 +1346,17 @@ Model buildModelChecked(const RawPolylines& input, const ModelParams& params)
   {
     // Bucket the segments by their lower node (counting sort, stable), then compare the higher
     // nodes within a bucket; the first of equal segments is kept.
-    std::vector<std::size_t> start(model.nodes.size() + 1, 0);
-    for (const Segment& g : segs)
-    {
-      ++start[std::min(g.a, g.b) + 1];
-    }
-    for (std::size_t v = 0; v < model.nodes.size(); ++v)
-    {
-      start[v + 1] += start[v];
-    }
-    std::vector<std::size_t> byLow(segs.size());
-    {
-      std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-      for (std::size_t s = 0; s < segs.size(); ++s)
+    std::vector<std::size_t> start, byLow;
+    groupIntoRows(model.nodes.size(),
+      start,
+      byLow,
+      [&](auto&& emit)
       {
-        byLow[fill[std::min(segs[s].a, segs[s].b)]++] = s;
-      }
-    }
+        for (std::size_t s = 0; s < segs.size(); ++s)
+        {
+          emit(std::min(segs[s].a, segs[s].b), s);
+        }
+      });
     auto high = [&](std::size_t s) { return std::max(segs[s].a, segs[s].b); };
     std::vector<char> keep(segs.size(), 1);
     for (std::size_t v = 0; v < model.nodes.size(); ++v)

@@ -79,6 +79,7 @@
 #include "StripTree.h"
 
 #include "Errors.h"
+#include "Rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -689,26 +690,16 @@ SegmentGrid::SegmentGrid(std::vector<Vec2> a,
       }
     }
   }
-  this->Start.assign(cells + 1, 0);
-  for (const auto& e : near)
-  {
-    ++this->Start[e.first + 1];
-  }
-  for (std::size_t c = 0; c < cells; ++c)
-  {
-    this->Start[c + 1] += this->Start[c];
-  }
-  // Filled with the starts as cursors (each ends at the next cell's start), then shifted back.
-  this->Items.resize(near.size());
-  for (const auto& e : near)
-  {
-    this->Items[this->Start[e.first]++] = e.second;
-  }
-  for (std::size_t c = cells; c > 0; --c)
-  {
-    this->Start[c] = this->Start[c - 1];
-  }
-  this->Start[0] = 0;
+  groupIntoRows(cells,
+    this->Start,
+    this->Items,
+    [&](auto&& emit)
+    {
+      for (const auto& e : near)
+      {
+        emit(e.first, e.second);
+      }
+    });
 }
 
 int SegmentGrid::cellOf(double v, double lo, int count) const
