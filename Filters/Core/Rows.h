@@ -6,6 +6,8 @@
 #include "LargeArray.h"
 
 #include <cstddef>
+#include <stdexcept>
+#include <string>
 
 namespace strata
 {
@@ -16,14 +18,24 @@ namespace strata
 /// with row in [0, rows), and must make the same calls each time: it is called twice, first
 /// to count the rows' sizes, then to place the items (the count ignores the items, so an
 /// optimizing build leaves out what only computes them). `Starts`, `Items`: vectors;
-/// the type of start's values (int, std::size_t) must hold the number of items. The rows are
-/// not checked: they index start directly, in loops that are among the stages' hottest.
+/// the type of start's values (int, std::size_t) must hold the number of items. A row outside
+/// [0, rows) throws std::out_of_range from the count, before anything is placed (a negative
+/// row converts to a large one).
 template<class Starts, class Items, class EmitAll>
 void groupIntoRows(std::size_t rows, Starts& start, Items& items, EmitAll&& emitAll)
 {
   using Offset = typename Starts::value_type;
   start.assign(rows + 1, Offset(0));
-  emitAll([&](std::size_t row, const auto&) { ++start[row + 1]; });
+  emitAll(
+    [&](std::size_t row, const auto&)
+    {
+      if (row >= rows)
+      {
+        throw std::out_of_range("groupIntoRows: row " + std::to_string(row) + " is not in [0, " +
+          std::to_string(rows) + ")");
+      }
+      ++start[row + 1];
+    });
   for (std::size_t r = 0; r < rows; ++r)
   {
     start[r + 1] += start[r];

@@ -1,5 +1,6 @@
 // groupIntoRows: the compressed rows the stages build (a vertex's triangles, a cell's
-// segments, a node's curves) hold every item once, in its row, in the order it was emitted.
+// segments, a node's curves) hold every item once, in its row, in the order it was emitted;
+// a row out of range is an exception, not a write outside the offsets.
 #include "Rows.h"
 #include "LargeArray.h"
 
@@ -8,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <random>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -113,4 +115,23 @@ TEST(RowsTest, OffsetsAndItemsMayBeOfOtherTypes)
     });
   EXPECT_EQ(cells, (LargeVector<std::uint32_t>{ 0, 0, 2 }));
   EXPECT_EQ(segments, (LargeVector<int>{ 5, 6 }));
+}
+
+TEST(RowsTest, ARowOutsideTheRowsThrowsBeforeAnythingIsPlaced)
+{
+  LargeVector<int> start, items = { 7, 8 };
+  const auto emitAll = [](int bad)
+  {
+    return [bad](auto&& emit)
+    {
+      emit(0, 1);
+      emit(bad, 2);
+    };
+  };
+  EXPECT_THROW(groupIntoRows(3, start, items, emitAll(3)), std::out_of_range);
+  EXPECT_THROW(groupIntoRows(3, start, items, emitAll(-1)), std::out_of_range);
+  EXPECT_EQ(items, (LargeVector<int>{ 7, 8 })); // (nothing placed)
+  groupIntoRows(3, start, items, emitAll(2));
+  EXPECT_EQ(start, (LargeVector<int>{ 0, 1, 1, 2 }));
+  EXPECT_EQ(items, (LargeVector<int>{ 1, 2 }));
 }
