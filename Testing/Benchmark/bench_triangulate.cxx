@@ -4,7 +4,10 @@
 // the paper's method alone (BM_TriangulateGulfSectionPaperMethod: Optimization off, the
 // method issue 4 delivers). Counters: triangles, vertices, smallest angle, simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
-// progress calls (the abort latency; the label names the stages of the two calls around it).
+// progress calls (the abort latency; the label names the stages of the two calls around it),
+// and the machine's memory latency around the runs (memory_latency_ns: one dependent read at
+// random in 64 MiB, the mean of a probe before the runs and one after; this machine's slow
+// minutes are slow memory, see memoryLatency()).
 // BM_AbortGulfSection: the time an abort asked N ms into a 1 M-triangle run takes to return.
 // BM_TwoHalves: the cost of one strata::bothHalves() call
 // with two empty halves, back to back or after a pause of the argument's microseconds (the
@@ -18,8 +21,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 
 namespace
 {
@@ -30,6 +36,44 @@ const strata::RawPolylines& gulf()
   return raw;
 }
 
+// Nanoseconds per read of a chain of dependent reads at random in 64 MiB (one cycle through
+// every slot, Sattolo's shuffle): the memory latency of the minute. On the machines of issue 4
+// a 1 M-triangle run's seconds follow it, not the processor's speed (README, Speed and
+// memory). The array is made once and kept, so that its memory, once freed, cannot make a
+// later run's first writes cheaper.
+double memoryLatency()
+{
+  constexpr std::size_t kSlots = (std::size_t(64) << 20) / sizeof(std::uint64_t);
+  static const std::unique_ptr<std::uint64_t[]> next = []
+  {
+    std::unique_ptr<std::uint64_t[]> a(new std::uint64_t[kSlots]);
+    for (std::size_t i = 0; i < kSlots; ++i)
+    {
+      a[i] = i;
+    }
+    std::uint64_t x = 88172645463325252ull; // (xorshift64)
+    for (std::size_t i = kSlots - 1; i > 0; --i)
+    {
+      x ^= x << 13;
+      x ^= x >> 7;
+      x ^= x << 17;
+      std::swap(a[i], a[x % i]); // j < i: one cycle
+    }
+    return a;
+  }();
+  constexpr int kReads = 1 << 20;
+  std::uint64_t at = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < kReads; ++k)
+  {
+    at = next[at];
+  }
+  const double seconds =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  benchmark::DoNotOptimize(at);
+  return 1e9 * seconds / kReads;
+}
+
 void triangulateGulfSection(benchmark::State& state, bool optimize)
 {
   strata::MesherParams params;
@@ -38,6 +82,7 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   strata::MesherResult result;
   double longestGap = 0.0;
   std::string gapStage, lastStage; // the stage of the report that ended the longest gap
+  const double latencyBefore = memoryLatency();
   for (auto _ : state)
   {
     auto previous = std::chrono::steady_clock::now();
@@ -64,6 +109,7 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   state.counters["iterations"] = result.summary.iterations;
   state.counters["s_total"] = result.summary.totalSeconds;
   state.counters["max_progress_gap_s"] = longestGap;
+  state.counters["memory_latency_ns"] = 0.5 * (latencyBefore + memoryLatency());
   state.SetLabel("longest gap: " + gapStage);
   for (const auto& stage : result.summary.secondsPerStage)
   {
