@@ -280,6 +280,11 @@
 // and the bad triangles with a short edge of 6, which are then taken in order) run in blocks,
 // each block's halves at once, and the probes of 2b may be asked in blocks
 // (RefinementParams::curvePoints); every result is the serial one.
+// The refiners of one pass hand their mesh on (Handover): the next takes its neighbours, and
+// looks for 2's flips only at the edges the one before left needing one (a flip refused, an
+// edge from a vertex it inserted off an edge or moved, a retagged triangle's) and at the
+// triangles whose frozen flag changed: the flips a sweep of every edge would find, in its
+// order (checked on the 548 bundled and unseen models; at 1 M three of eight sweeps spared).
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -490,6 +495,16 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   const std::vector<Zone>& within = {});
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest);
 
+// What a refiner that is done hands the next refiner of its mesh (Refiner::takeHandover(),
+// prepare()): its neighbours, the triangles with an edge its flips left needing one or whose
+// edges a change no flip followed may have left so (Unsettled), and its frozen flags.
+struct Handover
+{
+  LargeVector<std::array<int, 3>> neighbours;
+  std::vector<int> unsettled;
+  LargeVector<std::uint8_t> live;
+};
+
 class Refiner
 {
 public:
@@ -516,11 +531,18 @@ public:
   }
 
   /// Neighbours, frozen triangles, then Lawson's flips to constrained Delaunay (counted in
-  /// the result's delaunayFlips). With `neighbours`, those of a refiner that changed this mesh
-  /// last (takeNeighbours()) are taken instead of found again: the same ones.
-  void prepare(LargeVector<std::array<int, 3>>* neighbours = nullptr);
-  /// The neighbours, for prepare() of the next refiner of this mesh (this one is done).
-  LargeVector<std::array<int, 3>> takeNeighbours() { return std::move(this->Nbr); }
+  /// the result's delaunayFlips). With `handed`, what the refiner that changed this mesh last
+  /// handed over (takeHandover()): its neighbours are taken instead of found again (the same
+  /// ones), and since its mesh is constrained Delaunay but for the edges of its unsettled
+  /// triangles and of those whose frozen flag the sweep here changes, the flips look there
+  /// only (flipToDelaunayNear(): the same flips, in the same order, without a sweep of every
+  /// edge; at 1 M three of the refinement's eight such sweeps, which found nothing to flip).
+  void prepare(Handover* handed = nullptr);
+  /// For prepare() of the next refiner of this mesh (this one is done).
+  Handover takeHandover()
+  {
+    return { std::move(this->Nbr), std::move(this->Unsettled), std::move(this->Live) };
+  }
   /// From here on the zones given at construction are the only places where insertions may
   /// go down to the floor; elsewhere they are cautious (never below the bound, or the old
   /// smallest angle there).
@@ -1089,12 +1111,18 @@ void Refiner::legalize(int p, std::vector<int>& around)
     }
     const int e = (k + 1) % 3; // the edge opposite p
     const int u = this->Nbr[t][e];
-    if (this->needsFlip(t, e) && this->flip(t, e))
+    if (!this->needsFlip(t, e))
     {
-      stack.push_back(t);
-      stack.push_back(u);
-      around.push_back(u);
+      continue;
     }
+    if (!this->flip(t, e))
+    {
+      this->Unsettled.push_back(t); // (refused: left needing one)
+      continue;
+    }
+    stack.push_back(t);
+    stack.push_back(u);
+    around.push_back(u);
   }
   sortUnique(around);
 }
@@ -1225,6 +1253,9 @@ bool Refiner::splitEdge(int t, int k, Vec2 w, std::vector<int>& created)
     created.push_back(u2);
   }
   this->legalize(wi, created);
+  // (w off the edge, on its curve: an edge from w may need a flip legalize() does not look
+  // for, left to the next sweep, or to prepare()'s successor.)
+  this->Unsettled.insert(this->Unsettled.end(), created.begin(), created.end());
   return true;
 }
 
@@ -1246,6 +1277,8 @@ void Refiner::insertIn(int t, Vec2 w, std::vector<int>& created)
   this->replaceNeighbour(nca, t, t3);
   created = { t, t2, t3 };
   this->legalize(wi, created);
+  // (An edge from w may need a flip by rounding, w near a side: as in splitEdge().)
+  this->Unsettled.insert(this->Unsettled.end(), created.begin(), created.end());
 }
 
 // Cosine of the smallest angle of tri: the angle opposite the shortest edge (law of cosines
@@ -1464,12 +1497,13 @@ void Refiner::queueBad(const std::vector<int>& tris)
   }
 }
 
-void Refiner::prepare(LargeVector<std::array<int, 3>>* neighbours)
+void Refiner::prepare(Handover* handed)
 {
   const std::size_t nt = this->M.triangles.size();
-  if (neighbours && neighbours->size() == nt)
+  const bool taken = handed && handed->neighbours.size() == nt;
+  if (taken)
   {
-    this->Nbr = std::move(*neighbours);
+    this->Nbr = std::move(handed->neighbours);
   }
   else
   {
@@ -1479,7 +1513,30 @@ void Refiner::prepare(LargeVector<std::array<int, 3>>* neighbours)
   withRoom(this->Saved, nt).assign(nt, 0);
   // (Each triangle writes its own flag: a block's two halves at once.)
   this->sweepTriangles([this](int t, int) { this->Live[t] = this->positive(t); }, [] {});
-  this->flipToDelaunay();
+  if (!taken || handed->live.size() != nt)
+  {
+    this->flipToDelaunay();
+    return;
+  }
+  // The handed unsettled triangles (an undone insertion's are gone), and those whose flag
+  // changed: their edges' constraints did (a vertex moved since the flags were made).
+  std::vector<int> near;
+  for (const int t : handed->unsettled)
+  {
+    if (t >= 0 && static_cast<std::size_t>(t) < nt)
+    {
+      near.push_back(t);
+    }
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (handed->live[t] != this->Live[t])
+    {
+      near.push_back(static_cast<int>(t));
+    }
+  }
+  this->Unsettled.clear();
+  this->flipToDelaunayNear(std::move(near));
 }
 
 // Lawson's flips until every unconstrained edge is Delaunay (with `seeds`: starting from the
@@ -2123,6 +2180,9 @@ bool Refiner::snapOpposite(int t, int k, Vec2 w)
     return false;
   }
   this->legalize(c, star);
+  // (c moved: an edge between two of its triangles may need a flip legalize() does not look
+  // for, left to the next sweep, or to prepare()'s successor.)
+  this->Unsettled.insert(this->Unsettled.end(), star.begin(), star.end());
   return true;
 }
 
@@ -2185,6 +2245,7 @@ bool Refiner::slideOnto(int t, int v, Vec2 w, int left, int right)
     return false;
   }
   this->legalize(v, star);
+  this->Unsettled.insert(this->Unsettled.end(), star.begin(), star.end()); // (as in snapOpposite())
   return true;
 }
 
@@ -2270,6 +2331,7 @@ bool Refiner::retag(int t, char* far, const int* near)
     }
   }
   this->M.region[t] = r;
+  this->Unsettled.push_back(t); // (its edges' constraints changed)
   return true;
 }
 
@@ -3003,6 +3065,7 @@ void Refiner::adopt(const Refiner& prepared)
   withRoom(this->Live, prepared.Live.size()) = prepared.Live;
   this->Kept = prepared.Kept;
   this->KeepRan = prepared.KeepRan;
+  this->Unsettled = prepared.Unsettled; // (its mesh's edges the prepared refiner left so)
   this->takeShortEdges(prepared);
   withRoom(this->Saved, this->M.triangles.size()).assign(this->M.triangles.size(), 0);
 }
@@ -4769,7 +4832,7 @@ struct KeptRun
 {
   RegionMesh mesh;                            // the mesh it made
   RefinementResult result;                    // its counts
-  LargeVector<std::array<int, 3>> neighbours; // its mesh's neighbours
+  Handover handover;                          // its refiner's (prepare())
   std::size_t budget = 0;                     // the runs' budget of insertions
 };
 
@@ -4818,7 +4881,7 @@ KeptRun keptRun(const RegionMesh& mesh,
       }
       best = std::move(bold);
       bestResult = result;
-      kept.neighbours = run.takeNeighbours();
+      kept.handover = run.takeHandover();
       if (more && zones.size() == zonesBefore)
       {
         break;
@@ -4829,9 +4892,9 @@ KeptRun keptRun(const RegionMesh& mesh,
     run.zonesBelow(std::min(bestAngle, params.minimumAngle), zones);
   }
   kept.budget = cautious.budget();
-  if (kept.neighbours.empty())
+  if (kept.handover.neighbours.empty())
   {
-    kept.neighbours = cautious.takeNeighbours(); // (the cautious run was kept)
+    kept.handover = cautious.takeHandover(); // (the cautious run was kept)
   }
   return kept;
 }
@@ -4843,12 +4906,12 @@ RefinementResult refinePass(RegionMesh& mesh,
   bool everyTip,
   const RecoveryMemo* memo,
   RecoveryMemo* keep,
-  LargeVector<std::array<int, 3>>* neighbours,
+  Handover* handover,
   const ProgressReporter& progress)
 {
   const std::vector<Zone> none;
   Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
-  base.prepare(neighbours); // mesh is constrained Delaunay from here on
+  base.prepare(handover); // mesh is constrained Delaunay from here on
   const std::size_t recovered = base.recoverCurves(memo, keep);
   const std::size_t followed = base.followCurves();
   if (everyTip)
@@ -4873,8 +4936,8 @@ RefinementResult refinePass(RegionMesh& mesh,
     ? collapseShortEdgesAvoiding(best, params, base.keptDisks(), base.extendedSides())
     : 0;
   Refiner polish(best, splitter, params, 1.0, none, progress.sub(0.95, 1.0));
-  // (The kept run's neighbours, unless the collapses changed the mesh since.)
-  polish.prepare(cutCollapses == 0 ? &kept.neighbours : nullptr);
+  // (The kept run's hand-over, unless the collapses changed the mesh since.)
+  polish.prepare(cutCollapses == 0 ? &kept.handover : nullptr);
   polish.keepWedges(base);
   polish.takeShortEdges(base);
   bestResult.smoothingMoves = params.minimumAngle > 0.0 ? polish.smoothBad() : 0;
@@ -4986,10 +5049,10 @@ RefinementResult refinePass(RegionMesh& mesh,
   bestResult.sizeVertices = sized;
   bestResult.curveVertices = recovered + followed;
   bestResult.fidelitySplits = followed;
-  if (neighbours)
+  if (handover)
   {
-    // (For the next pass: the mesh's neighbours, as the refiner that changed it last has them.)
-    *neighbours = final->takeNeighbours();
+    // (For the next pass: the mesh's neighbours and more, from the refiner that changed it last.)
+    *handover = final->takeHandover();
   }
   mesh = finisher && final == &*finisher ? std::move(*finished) : std::move(best);
   return bestResult;
@@ -5050,7 +5113,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       }
     }
   }
-  LargeVector<std::array<int, 3>> neighbours; // the mesh's, from each pass for the next
+  Handover handover; // the mesh's neighbours and more, from each pass for the next (prepare())
   const bool amongRegions = std::any_of(params.wedgeCorners.begin(),
     params.wedgeCorners.end(),
     [](const SharpCorner& c) { return c.amongRegions; });
@@ -5068,7 +5131,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       pass > 0 ? &memos[(pass - 1) % 2] : (given.triangles.empty() ? nullptr : &given);
     RecoveryMemo* keep = !last || before ? &memos[pass % 2] : nullptr;
     RefinementResult r =
-      refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &neighbours, part);
+      refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &handover, part);
     if (pass > 0)
     {
       memos[(pass - 1) % 2] = RecoveryMemo(); // (its memory)
