@@ -284,7 +284,9 @@
 // looks for 2's flips only at the edges the one before left needing one (a flip refused, an
 // edge from a vertex it inserted off an edge or moved, a retagged triangle's) and at the
 // triangles whose frozen flag changed: the flips a sweep of every edge would find, in its
-// order (checked on the 548 bundled and unseen models; at 1 M three of eight sweeps spared).
+// order. The curve recovery's and the corners' flips after their retags look there too. Only
+// the first preparation tests every edge (checked on the 548 bundled and unseen models; at 1 M
+// seven of eight such tests spared).
 #include "DelaunayRefinement.h"
 
 #include "Errors.h"
@@ -536,7 +538,7 @@ public:
   /// ones), and since its mesh is constrained Delaunay but for the edges of its unsettled
   /// triangles and of those whose frozen flag the sweep here changes, the flips look there
   /// only (flipToDelaunayNear(): the same flips, in the same order, without a sweep of every
-  /// edge; at 1 M three of the refinement's eight such sweeps, which found nothing to flip).
+  /// edge).
   void prepare(Handover* handed = nullptr);
   /// For prepare() of the next refiner of this mesh (this one is done).
   Handover takeHandover()
@@ -1833,7 +1835,9 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
       queue.push_back(u);
     }
   }
-  this->flipToDelaunay(); // regions changed: so did the constrained edges
+  // Regions changed, so did the constrained edges: the retagged triangles and the insertions
+  // are recorded (Unsettled), so the flips look at their edges only.
+  this->flipToDelaunayNear({});
   return this->Inserted - inserted;
 }
 
@@ -2657,6 +2661,7 @@ std::size_t Refiner::dissolveCorners()
       --counts()[old];
       ++counts()[bestRegion];
       this->M.region[t] = bestRegion;
+      this->Unsettled.push_back(t); // (its edges' constraints changed: the flips below)
       ++total;
       next.push_back(t); // it may have a sharp corner in its new region
       this->appendNeighbours(t, next);
@@ -2699,7 +2704,7 @@ std::size_t Refiner::dissolveCorners()
   this->report(); // (the visits: up to 0.05 s at 1 M)
   if (total > 0)
   {
-    this->flipToDelaunay();
+    this->flipToDelaunayNear({}); // (the retags are recorded, as in recoverCurves())
   }
   return total;
 }
@@ -2790,6 +2795,7 @@ std::size_t Refiner::dissolveThinPieces(LargeVector<int>& piece,
     for (int t : tris)
     {
       this->M.region[t] = to;
+      this->Unsettled.push_back(t); // (as in dissolveCorners())
     }
     regionTwice[old] -= pieceTwice[id];
     regionTwice[to] += pieceTwice[id];
