@@ -551,8 +551,8 @@ public:
   void boldInside() { this->BoldInside = true; }
   void flipToDelaunay(const std::vector<int>* seeds = nullptr);
   /// flipToDelaunay() when only the edges of `changed` (the triangles whose corners moved or
-  /// that changed otherwise since the last call) and those the last call left unflipped
-  /// (Unsettled) may need a flip: the same flips, in the same order, without the sweep.
+  /// that changed otherwise since the last call) and those recorded since (Unsettled) may
+  /// need a flip: the same flips, in the same order, without the sweep.
   void flipToDelaunayNear(std::vector<int> changed);
   /// Curve recovery (RefinementParams::curvePoint): returns the vertices inserted. With a
   /// memo, the answers kept there by the recovery before are taken for the triangles it asked
@@ -915,8 +915,10 @@ private:
   const std::vector<Zone>& Cautious;
   bool BoldInside = false; // (boldInside()): the zones are where it is bold, not cautious
   std::vector<int> Changed;
-  // Triangles with an edge the flips left needing one (refused, or a new diagonal that needs
-  // one by rounding): what flipToDelaunayNear() looks at besides the changed triangles.
+  // Triangles with an edge that may need a flip no flip has looked at since: one the flips
+  // left (refused, or a new diagonal that needs one by rounding), one from a vertex inserted
+  // or moved, a retagged triangle's. What flipToDelaunayNear() looks at besides the changed
+  // triangles, and what a refiner hands the next (Handover); a sweep of every edge clears it.
   std::vector<int> Unsettled;
   std::vector<int>* FlipLog = nullptr; // flip() appends the two triangles it changes here
   RefinementResult R;
