@@ -1100,6 +1100,7 @@ void Compressor::buildSubMesh()
   this->Progress.report(this->At, this->Stage);
   this->Sys = std::make_unique<SpringSystem>(
     std::move(sm), std::move(x), std::move(rest), sp, this->Progress.sub(this->At, this->At));
+  this->Sys->releaseRestPositions(); // (no set is added later: the stars take that memory)
   this->Progress.report(this->At, this->Stage);
   this->rebuildStars();
   // (Reports between the arrays too: at 1 M their first writes took up to 0.2 s together.)
@@ -2584,6 +2585,13 @@ void Compressor::run()
   this->Progress.report(0.0, this->Stage);
   this->buildGlobalStars();
   this->choosePushes();
+  if (this->Spent)
+  {
+    // The classification's edges are read by choosePushes() only: the sub-mesh's arrays, next,
+    // take their memory instead of new memory (see LargeArray.h).
+    LargeVector<std::array<int, 2>>().swap(this->Spent->edges);
+    LargeVector<std::int8_t>().swap(this->Spent->edgeClass);
+  }
   this->placeJunctions();
   this->buildSubMesh();
   this->Result.secondsPerStage.push_back({ "compression set-up", secondsSince(t0) });
@@ -2650,8 +2658,12 @@ void Compressor::run()
 
 } // namespace detail
 
-CompressionResult compress(const TriangleMesh& grid,
+namespace
+{
+// compress(), with the classification handed over (`spent`, the same object) or not.
+CompressionResult compressWith(const TriangleMesh& grid,
   const Classification& classification,
+  Classification* spent,
   const Model& model,
   const DistanceField& field,
   const CompressionParams& params,
@@ -2685,13 +2697,17 @@ CompressionResult compress(const TriangleMesh& grid,
   // from the grid by the compressor when it needs them, fillFromGrid().)
   result.firstInsertedPoint = np;
   withRoom(result.triangleRegion, nt) = classification.cellRegion;
+  if (spent)
+  {
+    LargeVector<int>().swap(spent->cellRegion); // (copied: read no more)
+  }
   if (nt == 0 || model.empty())
   {
     detail::fillFromGrid(result, grid);
     result.warnings.push_back("compress: nothing to compress (empty mesh or model)");
     return result;
   }
-  Compressor compressor(grid, classification, model, field, params, progress, result);
+  Compressor compressor(grid, classification, model, field, params, progress, result, spent);
   compressor.run();
   // Faces removed by collapses (all three corners equal) leave the result.
   std::size_t kept = 0;
@@ -2719,6 +2735,27 @@ CompressionResult compress(const TriangleMesh& grid,
       " vertices of the approximated boundary could not be placed on a curve");
   }
   return result;
+}
+} // namespace
+
+CompressionResult compress(const TriangleMesh& grid,
+  const Classification& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params,
+  const ProgressReporter& progress)
+{
+  return compressWith(grid, classification, nullptr, model, field, params, progress);
+}
+
+CompressionResult compress(const TriangleMesh& grid,
+  Classification&& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params,
+  const ProgressReporter& progress)
+{
+  return compressWith(grid, classification, &classification, model, field, params, progress);
 }
 
 } // namespace strata

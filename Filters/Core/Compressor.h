@@ -77,15 +77,18 @@ void fillFromGrid(CompressionResult& result, const TriangleMesh& grid);
 class Compressor
 {
 public:
+  // `spent`, when given, is `cls` itself, handed over: its edges go once the pushes are chosen.
   Compressor(const TriangleMesh& grid,
     const Classification& cls,
     const Model& model,
     const DistanceField& field,
     const CompressionParams& params,
     const ProgressReporter& progress,
-    CompressionResult& result)
+    CompressionResult& result,
+    Classification* spent = nullptr)
     : Grid(grid)
     , Cls(cls)
+    , Spent(spent)
     , TheModel(model)
     , Field(field)
     , Params(params)
@@ -389,6 +392,7 @@ private:
 
   const TriangleMesh& Grid;
   const Classification& Cls;
+  Classification* Spent; // Cls, when the caller handed it over (compress(Classification&&))
   const Model& TheModel;
   const DistanceField& Field;
   const CompressionParams& Params;

@@ -630,8 +630,17 @@ SpringSystem::SpringSystem(SpringMesh mesh, LargeVector<Vec2> positions, const S
 
 void SpringSystem::addSpringSet(std::unique_ptr<SpringSet> set, const ProgressReporter& progress)
 {
+  if (this->Rest.size() != this->X.size())
+  {
+    throw ParameterError("SpringSystem::addSpringSet: the rest positions were released");
+  }
   set->initializeWithProgress(this->Mesh, this->Rest, progress);
   this->Sets.push_back(std::move(set));
+}
+
+void SpringSystem::releaseRestPositions()
+{
+  LargeVector<Vec2>().swap(this->Rest);
 }
 
 // Back to no live spring: what the last awake set made nonzero is reset (every accumulator

@@ -11,6 +11,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 
 namespace
 {
@@ -480,6 +481,35 @@ TEST(CompressionTest, RejectsAClassificationOfAnotherMesh)
   const Pipeline a(square(10.0), 6);
   const Pipeline b(square(10.0), 8);
   EXPECT_THROW(strata::compress(a.mesh, b.cls, *a.model, *a.field), strata::ParameterError);
+}
+
+// A classification handed over (compress(Classification&&)) gives the same mesh as one lent,
+// and is left with its vertex arrays only: its face regions and edges went during the run.
+TEST(CompressionTest, AHandedOverClassificationGivesTheSameMeshAndLetsItsEdgesGo)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")), 10);
+  const strata::CompressionResult lent = pipe.run();
+  strata::Classification handed = pipe.cls;
+  ASSERT_FALSE(handed.edges.empty());
+  const strata::CompressionResult r =
+    strata::compress(pipe.mesh, std::move(handed), *pipe.model, *pipe.field);
+  // (Read after the move on purpose: compress() documents what it leaves.)
+  EXPECT_TRUE(handed.edges.empty()); // NOLINT(bugprone-use-after-move)
+  EXPECT_TRUE(handed.edgeClass.empty());
+  EXPECT_TRUE(handed.cellRegion.empty());
+  EXPECT_EQ(handed.vertexRegion, pipe.cls.vertexRegion);
+  EXPECT_EQ(handed.vertexClass, pipe.cls.vertexClass);
+  ASSERT_EQ(r.triangles, lent.triangles);
+  ASSERT_EQ(r.points.size(), lent.points.size());
+  for (std::size_t i = 0; i < r.points.size(); ++i)
+  {
+    ASSERT_EQ(r.points[i].x, lent.points[i].x) << "point " << i;
+    ASSERT_EQ(r.points[i].y, lent.points[i].y) << "point " << i;
+  }
+  EXPECT_EQ(r.triangleRegion, lent.triangleRegion);
+  EXPECT_EQ(r.triangleLevel, lent.triangleLevel);
+  EXPECT_EQ(r.vertexState, lent.vertexState);
+  EXPECT_EQ(nonPositive(r), 0u);
 }
 
 TEST(CompressionTest, AbortStopsTheSimulation)

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -376,6 +377,32 @@ TEST(SpringSystemTest, ConfigurationsArePluggable)
   }
   EXPECT_GT(s.positions()[4].x, 1.05); // pulled right, held by the springs
   EXPECT_LT(s.positions()[4].x, 1.9);
+}
+
+// Released rest positions change no force or step (the sets have their rest lengths), and a
+// set added afterwards is refused rather than read from freed memory.
+TEST(SpringSystemTest, ReleasedRestPositionsChangeNoStepAndRefuseANewSet)
+{
+  const Lattice l = lattice(3);
+  strata::LargeVector<Vec2> start = l.points;
+  start[5] = start[5] + Vec2{ 0.2, -0.1 };
+  start[10] = start[10] + Vec2{ -0.15, 0.05 };
+  strata::SpringSystem kept = makeSystem(l, start);
+  strata::SpringSystem released = makeSystem(l, start);
+  released.releaseRestPositions();
+  for (int step = 0; step < 20; ++step)
+  {
+    kept.step(0.1);
+    released.step(0.1);
+  }
+  for (std::size_t i = 0; i < kept.positions().size(); ++i)
+  {
+    EXPECT_EQ(released.positions()[i], kept.positions()[i]) << "particle " << i;
+  }
+  auto sets = strata::makeSpringSets(strata::SpringConfiguration::EdgeOnly);
+  ASSERT_EQ(sets.size(), 1u);
+  EXPECT_THROW(released.addSpringSet(std::move(sets[0])), strata::ParameterError);
+  EXPECT_EQ(released.numberOfSpringSets(), kept.numberOfSpringSets());
 }
 
 TEST(SpringSystemTest, FlipTakesTheCurrentLengthsAsRest)
