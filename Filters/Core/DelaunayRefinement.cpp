@@ -4912,7 +4912,7 @@ RefinementResult refinePass(RegionMesh& mesh,
   const RefinementParams& params,
   bool last,
   bool everyTip,
-  const RecoveryMemo* memo,
+  RecoveryMemo* memo,
   RecoveryMemo* keep,
   Handover* handover,
   const ProgressReporter& progress)
@@ -4921,6 +4921,12 @@ RefinementResult refinePass(RegionMesh& mesh,
   Refiner base(mesh, splitter, params, 1.0, none, progress.sub(0.0, 0.1));
   base.prepare(handover); // mesh is constrained Delaunay from here on
   const std::size_t recovered = base.recoverCurves(memo, keep);
+  if (memo)
+  {
+    // Read by the recovery only: its memory (26 MB at 1 M) goes before the runs' copies of
+    // the mesh, the refinement's peak.
+    *memo = RecoveryMemo();
+  }
   const std::size_t followed = base.followCurves();
   if (everyTip)
   {
@@ -5135,19 +5141,12 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     {
       before.emplace(roomyCopy(mesh, &part)); // (array by array, with progress between)
     }
-    const RecoveryMemo* memo =
+    RecoveryMemo* memo =
       pass > 0 ? &memos[(pass - 1) % 2] : (given.triangles.empty() ? nullptr : &given);
     RecoveryMemo* keep = !last || before ? &memos[pass % 2] : nullptr;
     RefinementResult r =
       refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &handover, part);
-    if (pass > 0)
-    {
-      memos[(pass - 1) % 2] = RecoveryMemo(); // (its memory)
-    }
-    else
-    {
-      given = RecoveryMemo();
-    }
+    // (The pass let go of `memo` once its recovery had read it.)
     if (before && r.minimumAngle < params.minimumAngle - 1e-9)
     {
       // 7': the wedges among regions with a triangle below minimumAngle within twice their
