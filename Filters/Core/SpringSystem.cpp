@@ -845,6 +845,11 @@ void SpringSystem::computeForces()
   };
   if (!this->splits())
   {
+    // The second half's accumulators go while the steps are not split (made again, zero, when
+    // one is): at 1 M 12 MB that the compression's waves of new pushes take instead of new
+    // memory (see LargeArray.h).
+    LargeVector<Vec2>().swap(this->F1);
+    LargeVector<double>().swap(this->K1);
     add(s);
     return;
   }

@@ -647,6 +647,43 @@ TEST(SpringSystemTest, ASplitStepHasTheSerialForcesAndMovesEveryParticleOnce)
   }
 }
 
+// Split steps, then steps too small to split (whose second-half accumulators are let go),
+// then split steps again: the forces stay those of one loop at every step.
+TEST(SpringSystemTest, SplitStepsAfterUnsplitOnesStillHaveTheSerialForces)
+{
+  const Lattice l = lattice(40);
+  strata::LargeVector<Vec2> x, v;
+  shaken(l, x, v);
+  strata::SpringParams split;
+  split.splitSprings = 4000; // every spring live: split; a tenth of the particles awake: not
+  strata::SpringSystem serial = makeSystem(l, x), halves = makeSystem(l, x, split);
+  strata::LargeVector<std::uint8_t> all(x.size(), 1), few(x.size(), 0);
+  for (std::size_t i = 0; i < x.size(); i += 10)
+  {
+    few[i] = 1;
+  }
+  int step = 0;
+  for (const strata::LargeVector<std::uint8_t>* awake : { &all, &few, &few, &all, &few, &all })
+  {
+    SCOPED_TRACE("step " + std::to_string(step++));
+    for (strata::SpringSystem* s : { &serial, &halves })
+    {
+      s->velocities() = v;
+      s->setAwake(*awake);
+      s->computeForces();
+    }
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+      const double scale = 1.0 + strata::norm(serial.forces()[i]);
+      ASSERT_NEAR(halves.forces()[i].x, serial.forces()[i].x, 1e-12 * scale) << i;
+      ASSERT_NEAR(halves.forces()[i].y, serial.forces()[i].y, 1e-12 * scale) << i;
+      ASSERT_NEAR(halves.stiffness(i), serial.stiffness(i), 1e-12 * (1.0 + serial.stiffness(i)));
+    }
+    serial.integrate(0.05);
+    halves.integrate(0.05);
+  }
+}
+
 TEST(SpringSystemTest, ASplitStepKeepsAGuardedMeshEmbedded)
 {
   // A lattice squeezed toward its centre line relaxes with a guard that refuses any move
