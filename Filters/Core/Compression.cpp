@@ -1628,6 +1628,9 @@ void Compressor::railStep(int i, double dt)
 // criterion picks the end to push.
 std::size_t Compressor::pushNewCrossings()
 {
+  // The stars' scratch goes (12 MB at 1 M): the wave's lists take its memory, and the next
+  // updateStars() makes it again (at most once a wave) rather than memory new to the run.
+  LargeVector<int>().swap(this->StarScratch);
   const auto& x = this->positions();
   const std::size_t nv = x.size();
   const auto crossable = [&](int a, int b)
