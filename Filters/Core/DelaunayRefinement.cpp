@@ -4923,8 +4923,8 @@ RefinementResult refinePass(RegionMesh& mesh,
   const std::size_t recovered = base.recoverCurves(memo, keep);
   if (memo)
   {
-    // Read by the recovery only: its memory (26 MB at 1 M) goes before the runs' copies of
-    // the mesh, the refinement's peak.
+    // Read by the recovery only: its memory (about 26 MB at 1 M) goes before the runs' copies
+    // of the mesh, the refinement's peak.
     *memo = RecoveryMemo();
   }
   const std::size_t followed = base.followCurves();
