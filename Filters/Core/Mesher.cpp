@@ -1822,8 +1822,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
     std::snprintf(text,
       sizeof(text),
       "%zu triangles stay below MinimumAngle (%g degrees) with no input corner forcing them: the "
-      "smallest angle, %.2f degrees, is in region %d at (%.9g, %.9g). This happens where layers "
-      "are about a finest edge (%.6g model units) thick or thinner: %s",
+      "smallest angle, %.2f degrees, is in region %d at (%.9g, %.9g). This happens mostly where "
+      "layers are about a finest edge (%.6g model units) thick or thinner: %s",
       result.summary.trianglesBelowMinimumAngle,
       params.refinement.minimumAngle,
       result.minAngle[worst],
