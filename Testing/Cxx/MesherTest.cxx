@@ -2076,6 +2076,24 @@ TEST(MesherTest, AnIslandsBulgeCutOffByALongEdgeIsFollowed)
   expectLakeWithinTheBounds("bulge_island_lake.vtp");
 }
 
+// The last pass's finisher (a run bold only around the triangles left below MinimumAngle) can
+// mend its zones and make a triangle below the angle to beat beside them: on
+// beside_zone_lake.vtp (lake303 of random_lakes_countries.py 300 306) it mended two triangles
+// of 28.3 degrees, large ones 0.009 units from the shore, and made one of 27.7 degrees next
+// to them, so it was not kept and the mesh kept 28.26 degrees (2026-12-06). It is made again,
+// bold around that triangle too, and kept: every triangle at 30 degrees, the lake's area kept.
+TEST(MesherTest, AFinisherThatMakesABadTriangleBesideItsZonesIsMadeAgainBoldThereToo)
+{
+  const auto [raw, r] = madeOnce("beside_zone_lake.vtp");
+  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
+  ASSERT_FALSE(r.minAngle.empty());
+  const double smallest = *std::min_element(r.minAngle.begin(), r.minAngle.end());
+  EXPECT_GE(smallest, 30.0 - 1e-6);
+  EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_EQ(allWarnings(r).find("stay below MinimumAngle"), std::string::npos) << allWarnings(r);
+}
+
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
 // LocalMaxLevel 14 automatic): the mesh made once keeps triangles below 25 degrees that no input
 // corner forces (7.9 degrees). They are counted (those whose smallest angle sits on a model
