@@ -1790,6 +1790,58 @@ TEST(DelaunayRefinementTest, AnEdgeTooShortForTheRefinementIsCollapsed)
   EXPECT_EQ(fixed.triangles.size(), build().triangles.size());
 }
 
+// Two free vertices 0.3 apart at the centre of a regular hexagon of radius 2 (its rim on the
+// curves), each joined to half the rim: the two triangles on their short edge have 7.4-degree
+// apexes, and the edge is too short for the refinement. Merging either vertex into the other
+// leaves a fan around a point 0.15 off the centre; both vertices are free, so they meet at
+// the edge's middle instead, the hexagon's centre: six equilateral triangles.
+TEST(DelaunayRefinementTest, TwoFreeVerticesTooCloseForTheRefinementMeetHalfWay)
+{
+  RegionMesh m;
+  for (int i = 0; i < 6; ++i)
+  {
+    const double a = i * kPi / 3.0;
+    m.points.push_back({ 2.0 * std::cos(a), 2.0 * std::sin(a) });
+  }
+  const int c1 = 6, c2 = 7; // the left and the right one
+  m.points.push_back({ -0.15, 0.0 });
+  m.points.push_back({ 0.15, 0.0 });
+  m.triangles = { { c2, 5, 0 },
+    { c2, 0, 1 },
+    { c1, c2, 1 },
+    { c1, 1, 2 },
+    { c1, 2, 3 },
+    { c1, 3, 4 },
+    { c2, c1, 4 },
+    { c2, 4, 5 } };
+  m.region.assign(m.triangles.size(), 0);
+  m.level.assign(m.triangles.size(), 0);
+  const auto onRim = [](Vec2 p) { return std::fabs(strata::norm(p) - 2.0) < 1e-3; };
+  RefinementParams params;
+  params.minimumAngle = 30.0;
+  params.minimumEdgeLength = 2.0; // the floor: edges below 1 are not refined
+  params.onCurve = onRim;
+  params.curveDistance = [](Vec2 p, double) { return std::fabs(strata::norm(p) - 2.0); };
+  params.curveSlide = [](Vec2, Vec2, int, int, Vec2&) { return false; };
+  expectValid(m);
+  ASSERT_LT(meshMinimumAngle(m), 10.0);
+  const double area = regionAreas(m).at(0);
+
+  EXPECT_EQ(strata::collapseShortEdges(m, params), 1u);
+  expectValid(m);
+  EXPECT_EQ(m.triangles.size(), 6u);
+  EXPECT_NEAR(meshMinimumAngle(m), 60.0, 1e-9);
+  EXPECT_NEAR(regionAreas(m).at(0), area, 1e-12);
+  for (const auto& t : m.triangles)
+  {
+    for (const int v : t)
+    {
+      EXPECT_TRUE(v < 6 || strata::norm(m.points[v]) < 1e-15)
+        << "vertex " << v << " off the centre";
+    }
+  }
+}
+
 TEST(DelaunayRefinementTest, TheInsertionBudgetCapsTheVerticesInserted)
 {
   RegionMesh m = bands({ -10.0, 0.0, 0.1, 10.1 }, 2000.0, 10.0);

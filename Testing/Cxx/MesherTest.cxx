@@ -2095,6 +2095,24 @@ TEST(MesherTest, AFinisherThatMakesABadTriangleBesideItsZonesIsMadeAgainBoldTher
   EXPECT_EQ(allWarnings(r).find("stay below MinimumAngle"), std::string::npos) << allWarnings(r);
 }
 
+// Two free vertices closer than the refinement's floor inside a country
+// (interior_pair_countries.vtp, countries159 of random_lakes_countries.py 154 166): their
+// triangles stayed at 27.32 and 28.83 degrees, since no insertion may shorten their edges and a
+// merge of either vertex into the other did not raise them. They meet at their edge's middle:
+// with the default settings every triangle is at 30 degrees or more, with no warning (nor a
+// thin layer mesh made too), and the countries' areas are kept.
+TEST(MesherTest, TwoFreeVerticesTooCloseForTheRefinementMeetHalfWayInACountry)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("interior_pair_countries.vtp"));
+  const strata::MesherResult r = strata::triangulate(raw);
+  ASSERT_FALSE(r.minAngle.empty());
+  EXPECT_GE(*std::min_element(r.minAngle.begin(), r.minAngle.end()), 30.0 - 1e-6);
+  EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_EQ(allWarnings(r), "");
+}
+
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
 // LocalMaxLevel 14 automatic): the mesh made once keeps triangles below 25 degrees that no input
 // corner forces (7.9 degrees). They are counted (those whose smallest angle sits on a model
