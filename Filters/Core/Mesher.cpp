@@ -2717,6 +2717,9 @@ MesherResult triangulate(const RawPolylines& input,
   // bay beside it, each about 1.5 finest edges wide in triangles 4 to 8 finest edges long, are kept
   // 4 levels finer (spit_and_bay_lake.vtp with ThinLayerRefinement on: 0.61 -> 0.39 local edges,
   // +32% triangles; by default its thin layers refined around the miss mend it).
+  // With every size automatic, triangles left below MinimumAngle (but above 25 degrees) that
+  // no input corner forces are a miss too, for this first step only (a layer thinning to about
+  // a finest edge: thinning_layer_section.vtp, 25.78 -> 30.0 degrees 4 levels finer).
   const Clock::time_point begin = Clock::now();
   MesherResult first = triangulateWithThinLayers(
     input, params, progress.sub(0.0, kFirstShare), automaticSizes(params));
@@ -2726,8 +2729,9 @@ MesherResult triangulate(const RawPolylines& input,
   { return keeps ? s.minAngleUnforced : s.minAngle; };
   struct Misses
   {
-    bool angle, area, pieces, boundary;
-    bool any() const { return this->angle || this->area || this->pieces || this->boundary; }
+    bool angle, area, pieces, boundary, goal;
+    bool hard() const { return this->angle || this->area || this->pieces || this->boundary; }
+    bool any() const { return this->hard() || this->goal; }
   };
   const auto missesOf = [&](const MesherResult& r)
   {
@@ -2741,6 +2745,11 @@ MesherResult triangulate(const RawPolylines& input,
     m.pieces = automaticSizes(params) && !r.brokenRegions.empty();
     // (Likewise the boundary bound, which the thin layer refinement did not mend either.)
     m.boundary = automaticSizes(params) && s.maxRelativeDeviation > kDeviationBound;
+    // (And the angle's goal, MinimumAngle, missed by triangles above 25 degrees, which no input
+    // corner forces: a layer about a finest edge thick.)
+    m.goal = automaticSizes(params) && !m.angle && s.trianglesBelowMinimumAngle > 0 &&
+      (keeps || s.trianglesAtSharpCorners == 0) &&
+      angleOf(s) < params.refinement.minimumAngle - kRetryAngleSlack;
     return m;
   };
   const auto why = [&](const MesherResult& r, const Misses& m)
@@ -2769,12 +2778,21 @@ MesherResult triangulate(const RawPolylines& input,
         "cut %zu region(s) into more pieces than the model has (or left fewer)",
         r.brokenRegions.size());
     }
-    else
+    else if (m.boundary)
     {
       std::snprintf(text,
         sizeof(text),
         "had its boundary %.2f local edges off the input curves",
         r.summary.maxRelativeDeviation);
+    }
+    else
+    {
+      std::snprintf(text,
+        sizeof(text),
+        "had triangles below %g degrees (smallest %.2f%s)",
+        params.refinement.minimumAngle,
+        angleOf(r.summary),
+        keeps ? " off the kept corners" : "");
     }
     return std::string(text);
   };
@@ -2868,7 +2886,7 @@ MesherResult triangulate(const RawPolylines& input,
     misses = missesOf(made);
     // (The third step only for a region still cut: a layer about two finest edges thick, cut
     // where it thins out.)
-    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.any());
+    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.hard());
     if (!newKept || !again || finerParams.grid.localMaxLevel + steps[i + 1].levels > 60)
     {
       break;
