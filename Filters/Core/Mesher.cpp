@@ -2391,6 +2391,18 @@ MesherResult triangulateOnce(const RawPolylines& input,
       }
     }
     result.summary.maxBoundaryVertexDistance = maxVertex;
+    if (maxVertex <= kOnCurve * inputSize(input))
+    {
+      // The compression's count of the boundary vertices it left off the curves is out of
+      // date: the snaps and the refinement placed them (f163 of random_faulted_sections.py
+      // 160 172 warned of 3 with every vertex on a curve).
+      result.warnings.erase(
+        std::remove_if(result.warnings.begin(),
+          result.warnings.end(),
+          [](const std::string& w)
+          { return w.find("could not be placed on a curve") != std::string::npos; }),
+        result.warnings.end());
+    }
     result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
     const double maxRelative = boundaryPart.relative;
     result.summary.maxRelativeDeviation = maxRelative;
