@@ -518,6 +518,17 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
 }
 
 // The bounding-box diagonal of the input's points.
+// Drops the compression's warning of the boundary vertices it left off the curves (once they
+// are placed).
+void dropOffCurveWarning(std::vector<std::string>& warnings)
+{
+  warnings.erase(std::remove_if(warnings.begin(),
+                   warnings.end(),
+                   [](const std::string& w)
+                   { return w.find("could not be placed on a curve") != std::string::npos; }),
+    warnings.end());
+}
+
 double inputSize(const RawPolylines& input)
 {
   Box2 box;
@@ -746,12 +757,7 @@ void refineCompressed(CompressionResult& compressed,
       compressed.offCurveBoundaryVertices)
   {
     // The compression's warning counted them; they are all on a curve now.
-    compressed.warnings.erase(
-      std::remove_if(compressed.warnings.begin(),
-        compressed.warnings.end(),
-        [](const std::string& w)
-        { return w.find("could not be placed on a curve") != std::string::npos; }),
-      compressed.warnings.end());
+    dropOffCurveWarning(compressed.warnings);
   }
   KnownCentroidRegions known;
   if (params.curveRecovery)
@@ -2396,12 +2402,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
       // The compression's count of the boundary vertices it left off the curves is out of
       // date: the snaps and the refinement placed them (f163 of random_faulted_sections.py
       // 160 172 warned of 3 with every vertex on a curve).
-      result.warnings.erase(
-        std::remove_if(result.warnings.begin(),
-          result.warnings.end(),
-          [](const std::string& w)
-          { return w.find("could not be placed on a curve") != std::string::npos; }),
-        result.warnings.end());
+      dropOffCurveWarning(result.warnings);
     }
     result.summary.maxBoundaryDeviation = std::max({ maxVertex, maxMeshToModel, maxModelToMesh });
     const double maxRelative = boundaryPart.relative;
