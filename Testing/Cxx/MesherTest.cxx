@@ -1535,6 +1535,14 @@ std::pair<strata::RawPolylines, strata::MesherResult> madeOnce(const char* file)
   strata::MesherResult r = strata::triangulate(raw, once);
   return { std::move(raw), std::move(r) };
 }
+
+// The model Data/`file` and its mesh with the default settings.
+std::pair<strata::RawPolylines, strata::MesherResult> madeByDefault(const char* file)
+{
+  strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
+  strata::MesherResult r = strata::triangulate(raw);
+  return { std::move(raw), std::move(r) };
+}
 } // namespace
 
 // Layers about a finest edge thick (thin_layered_section.vtp, LocalMaxLevel 14 automatic): the
@@ -2108,7 +2116,7 @@ TEST(MesherTest, AFinisherThatMakesABadTriangleBesideItsZonesIsMadeAgainBoldTher
 TEST(MesherTest, BoundaryVerticesPlacedAfterTheCompressionAreNotWarnedOf)
 {
   const auto [raw, once] = madeOnce("placed_later_section.vtp");
-  const strata::MesherResult byDefault = strata::triangulate(raw);
+  const auto [same, byDefault] = madeByDefault("placed_later_section.vtp");
   for (const strata::MesherResult* r : { &once, &byDefault })
   {
     EXPECT_GT(r->summary.triangles, 0u);
@@ -2119,9 +2127,7 @@ TEST(MesherTest, BoundaryVerticesPlacedAfterTheCompressionAreNotWarnedOf)
 
 TEST(MesherTest, TwoFreeVerticesTooCloseForTheRefinementMeetHalfWayInACountry)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("interior_pair_countries.vtp"));
-  const strata::MesherResult r = strata::triangulate(raw);
+  const auto [raw, r] = madeByDefault("interior_pair_countries.vtp");
   expectEveryTriangleAtThirtyWithinTheBounds(r);
   EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
   EXPECT_EQ(allWarnings(r), "");
@@ -2136,9 +2142,7 @@ TEST(MesherTest, TwoFreeVerticesTooCloseForTheRefinementMeetHalfWayInACountry)
 // is made at that level only, and its triangles below the angle are named.
 TEST(MesherTest, AMeshBelowTheAngleGoalIsMadeAgainFinerWithTheAutomaticSizes)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("thinning_layer_section.vtp"));
-  const strata::MesherResult r = strata::triangulate(raw);
+  const auto [raw, r] = madeByDefault("thinning_layer_section.vtp");
   expectEveryTriangleAtThirtyWithinTheBounds(r);
   EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
   EXPECT_EQ(r.summary.localMaxLevel, 18);
