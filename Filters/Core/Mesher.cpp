@@ -517,7 +517,6 @@ bool stretchDeviation(const BoundaryRails::Chain& c,
   return farthest > 0.0;
 }
 
-// The bounding-box diagonal of the input's points.
 // Drops the compression's warning of the boundary vertices it left off the curves (once they
 // are placed).
 void dropOffCurveWarning(std::vector<std::string>& warnings)
@@ -529,6 +528,7 @@ void dropOffCurveWarning(std::vector<std::string>& warnings)
     warnings.end());
 }
 
+// The bounding-box diagonal of the input's points.
 double inputSize(const RawPolylines& input)
 {
   Box2 box;
@@ -2730,9 +2730,9 @@ MesherResult triangulate(const RawPolylines& input,
   // bay beside it, each about 1.5 finest edges wide in triangles 4 to 8 finest edges long, are kept
   // 4 levels finer (spit_and_bay_lake.vtp with ThinLayerRefinement on: 0.61 -> 0.39 local edges,
   // +32% triangles; by default its thin layers refined around the miss mend it).
-  // With every size automatic, triangles left below MinimumAngle (but above 25 degrees) that
-  // no input corner forces are a miss too, for this first step only (a layer thinning to about
-  // a finest edge: thinning_layer_section.vtp, 25.78 -> 30.0 degrees 4 levels finer).
+  // With every size automatic, triangles left below min(MinimumAngle, 30) (but above 25
+  // degrees) that no input corner forces are a miss too, for this first step only (a layer thinning
+  // to about a finest edge: thinning_layer_section.vtp, 25.78 -> 30.0 degrees 4 levels finer).
   const Clock::time_point begin = Clock::now();
   MesherResult first = triangulateWithThinLayers(
     input, params, progress.sub(0.0, kFirstShare), automaticSizes(params));
@@ -2746,6 +2746,7 @@ MesherResult triangulate(const RawPolylines& input,
     bool hard() const { return this->angle || this->area || this->pieces || this->boundary; }
     bool any() const { return this->hard() || this->goal; }
   };
+  const double goalAngle = std::min(params.refinement.minimumAngle, kThinLayerRetryAngle);
   const auto missesOf = [&](const MesherResult& r)
   {
     const MesherResult::Summary& s = r.summary;
@@ -2758,11 +2759,11 @@ MesherResult triangulate(const RawPolylines& input,
     m.pieces = automaticSizes(params) && !r.brokenRegions.empty();
     // (Likewise the boundary bound, which the thin layer refinement did not mend either.)
     m.boundary = automaticSizes(params) && s.maxRelativeDeviation > kDeviationBound;
-    // (And the angle's goal, MinimumAngle, missed by triangles above 25 degrees, which no input
-    // corner forces: a layer about a finest edge thick.)
+    // (And the angle's goal, min(MinimumAngle, 30), missed by triangles above 25 degrees that no
+    // input corner forces: a layer about a finest edge thick. Above 30 degrees the refinement
+    // stops short of MinimumAngle on most models whatever the grid.)
     m.goal = automaticSizes(params) && !m.angle && s.trianglesBelowMinimumAngle > 0 &&
-      (keeps || s.trianglesAtSharpCorners == 0) &&
-      angleOf(s) < params.refinement.minimumAngle - kRetryAngleSlack;
+      (keeps || s.trianglesAtSharpCorners == 0) && angleOf(s) < goalAngle - kRetryAngleSlack;
     return m;
   };
   const auto why = [&](const MesherResult& r, const Misses& m)
@@ -2803,7 +2804,7 @@ MesherResult triangulate(const RawPolylines& input,
       std::snprintf(text,
         sizeof(text),
         "had triangles below %g degrees (smallest %.2f%s)",
-        params.refinement.minimumAngle,
+        goalAngle,
         angleOf(r.summary),
         keeps ? " off the kept corners" : "");
     }

@@ -81,13 +81,13 @@ struct MesherParams
   /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
   /// region cut into more pieces than the model has or left with fewer
   /// (MesherResult::brokenRegions) or its Summary::maxRelativeDeviation still above 0.5, or
-  /// triangles still below refinement.minimumAngle (by more than 0.05 degrees), is
+  /// triangles still below min(refinement.minimumAngle, 30) (by more than 0.05 degrees), is
   /// made again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when
   /// its smallest angle is larger, or when it mends the area, the pieces or the deviation
   /// without a smaller smallest angle (up to 30 degrees) (a warning gives both;
   /// Summary::localMaxLevel); when
-  /// the finer one is kept and still misses (but for the last: minimumAngle above 25
-  /// degrees), it is made once more 2 levels finer again, kept
+  /// the finer one is kept and still misses one of the others (not that last one alone), it
+  /// is made once more 2 levels finer again, kept
   /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
   /// once more. With keepSharpCorners these smallest angles are those away from the
   /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.
