@@ -4599,7 +4599,6 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
       double bestCosine = HUGE_VAL;
       int bestV = -1, bestU = -1;
       bool bestMid = false;
-      Vec2 bestAt{};
       for (int way = 0; way < 3; ++way)
       {
         const int u = tri[(k + (way & 1)) % 3], v = tri[(k + 1 - (way & 1)) % 3];
@@ -4767,7 +4766,6 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
           bestU = u;
           bestV = v;
           bestMid = way == 2;
-          bestAt = mid;
         }
       }
       if (bestV < 0)
@@ -4776,7 +4774,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
       }
       if (bestMid)
       {
-        m.points[bestU] = bestAt;
+        m.points[bestU] = 0.5 * (X(bestU) + X(bestV));
       }
       for (int s : star(bestV))
       {

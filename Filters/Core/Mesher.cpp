@@ -2769,14 +2769,18 @@ MesherResult triangulate(const RawPolylines& input,
   const auto why = [&](const MesherResult& r, const Misses& m)
   {
     char text[96];
-    if (m.angle)
+    const auto below = [&](double bound)
     {
       std::snprintf(text,
         sizeof(text),
         "had triangles below %g degrees (smallest %.2f%s)",
-        kFinerRetryAngle,
+        bound,
         angleOf(r.summary),
         keeps ? " off the kept corners" : "");
+    };
+    if (m.angle)
+    {
+      below(kFinerRetryAngle);
     }
     else if (m.area)
     {
@@ -2801,12 +2805,7 @@ MesherResult triangulate(const RawPolylines& input,
     }
     else
     {
-      std::snprintf(text,
-        sizeof(text),
-        "had triangles below %g degrees (smallest %.2f%s)",
-        goalAngle,
-        angleOf(r.summary),
-        keeps ? " off the kept corners" : "");
+      below(goalAngle);
     }
     return std::string(text);
   };
