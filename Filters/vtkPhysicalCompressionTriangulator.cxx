@@ -274,7 +274,8 @@ bool vtkPhysicalCompressionTriangulator::CheckProperties()
   valid &= Range::Check(this, "PushVelocity", this->PushVelocity, 0.0, 10.0, Range::OPEN);
   valid &= Range::Check(this, "FeatureAngle", this->FeatureAngle, 0.0, 180.0);
   valid &= Range::Check(this, "BoundaryTolerance", this->BoundaryTolerance, 0.0, 10.0);
-  valid &= Range::Check(this, "MinimumAngle", this->MinimumAngle, 0.0, 34.0);
+  valid &=
+    Range::Check(this, "MinimumAngle", this->MinimumAngle, 0.0, strata::kLargestMinimumAngle);
   return valid;
 }
 

@@ -4384,10 +4384,11 @@ PointStars pointStars(std::size_t numberOfPoints,
 
 void validate(const RefinementParams& p)
 {
-  if (!(p.minimumAngle >= 0.0 && p.minimumAngle <= 34.0))
+  if (!(p.minimumAngle >= 0.0 && p.minimumAngle <= kLargestMinimumAngle))
   {
-    throw ParameterError(
-      "MinimumAngle = " + std::to_string(p.minimumAngle) + " is out of range [0, 34] (degrees)");
+    throw ParameterError("MinimumAngle = " + std::to_string(p.minimumAngle) +
+      " is out of range [0, 33] (degrees; Delaunay refinement usually does not end above "
+      "about 33)");
   }
   if (!(p.minimumEdgeLength >= 0.0) || !std::isfinite(p.minimumEdgeLength))
   {

@@ -36,12 +36,19 @@ struct SharpCorner
 /// RefinementParams::regionsNear's answer for a point with no curve nearer than asked.
 constexpr int kNoCurveNear = std::numeric_limits<int>::min();
 
+/// The largest RefinementParams::minimumAngle, degrees. Delaunay refinement is known to end
+/// in practice up to about 33 degrees and usually not above 34 (Shewchuk, Triangle's -q
+/// switch). Here 34 was allowed until 2026-12-06: on the 40 bundled models its runs cascaded
+/// until their insertion budget, minutes for meshes of 20-24 degrees (aliased_layers_section:
+/// 273 s, 23.4 degrees, 420 k triangles), where 33 gives 31-33 degrees in at most 21 s.
+constexpr double kLargestMinimumAngle = 33.0;
+
 /// Parameters of refineDelaunay().
 struct RefinementParams
 {
   /// Degrees. Triangles of a region whose smallest angle is below this are refined. Range
-  /// [0, 34] (above about 34 degrees Delaunay refinement may not end); 0 = no refinement
-  /// (the mesh is still flipped to constrained Delaunay).
+  /// [0, kLargestMinimumAngle]; 0 = no refinement (the mesh is still flipped to constrained
+  /// Delaunay).
   double minimumAngle = 30.0;
   /// Model units (> 0 finite, or 0 for no floor). A bad triangle whose shortest edge is
   /// shorter than half this is left as it is, and a region boundary edge shorter than this is

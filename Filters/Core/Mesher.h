@@ -30,7 +30,13 @@ struct MesherParams
   /// Delaunay refinement toward refinement.minimumAngle, run after the compression when
   /// compression.optimize is on. refinement.minimumEdgeLength 0 (default) means
   /// grid.minEdgeLength when that is set, else the grid's finest leg (the hypotenuse at
-  /// Grid48Params::junctionMaxLevel over sqrt(2)).
+  /// Grid48Params::junctionMaxLevel over sqrt(2)). Above 30 degrees (with the optimization), a
+  /// mesh that misses a bound of the meshes refined toward 30 (its smallest angle 30 degrees
+  /// where no input or kept corner forces it, the regions' areas within 0.5%, with the automatic
+  /// sizes the regions whole and the boundary within half a local edge, the boundary vertices on
+  /// the curves) is made again with the refinement toward 30 degrees, and that one is kept when it
+  /// misses fewer of them, or as many with a larger smallest angle (up to 30); a warning says
+  /// which. The triangles below refinement.minimumAngle are counted against it in either.
   RefinementParams refinement;
   /// Beyond the paper, with the refinement: curve recovery first (RefinementParams::curvePoint
   /// and regionAt, from the model's curves and distance field): every triangle takes the
@@ -232,7 +238,8 @@ struct MesherResult
     /// meshes' figures, and secondsPerStage starts with the discarded run's "discarded run"; the
     /// finer level's retry puts "discarded level run" before it).
     bool thinLayerMesh = false;
-    /// Wall-clock seconds of each stage, in order.
+    /// Wall-clock seconds of each stage, in order (a mesh made again refined toward 30
+    /// degrees, MinimumAngle being above, puts "discarded angle run" first).
     std::vector<std::pair<std::string, double>> secondsPerStage;
     double totalSeconds = 0.0;
   } summary;

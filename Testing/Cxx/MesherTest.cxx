@@ -2228,3 +2228,50 @@ TEST(MesherTest, TrianglesLeftBelowTheBoundAreNamedAndAFinerLevelMendsThem)
   EXPECT_EQ(salt.summary.trianglesBelowMinimumAngle, 0u);
   EXPECT_EQ(allWarnings(salt).find("stay below MinimumAngle"), std::string::npos);
 }
+
+// Above 30 degrees Delaunay refinement may cascade into worse triangles than it leaves toward
+// 30: on geology_marmousi.vtp, MinimumAngle 32 left the mesh at 24.22 degrees (where 30 gives
+// 30.00), below issue 5's 25, and its finer levels were worse still (7.48 degrees). A mesh
+// that misses a bound of the meshes at 30 degrees is then made again with the refinement
+// toward 30 and kept when it misses fewer: the default's mesh, its triangles below 32 counted
+// and named, the choice in a warning. Where the bound asked for is reached within the bounds
+// (lake_superior.vtp at 32 degrees), the mesh is made once.
+TEST(MesherTest, AnAngleAboveThirtyIsNotBoughtWithTrianglesWorseThanThirtyGives)
+{
+  const auto [raw, byDefault] = madeByDefault("geology_marmousi.vtp");
+  strata::MesherParams p;
+  p.refinement.minimumAngle = 32.0;
+  const strata::MesherResult r = strata::triangulate(raw, p);
+  ASSERT_GT(r.summary.triangles, 0u);
+  EXPECT_GE(r.summary.minAngle, 29.95);
+  EXPECT_LE(r.summary.maxAngle, 130.0);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_EQ(r.triangles, byDefault.triangles);
+  EXPECT_EQ(r.points, byDefault.points);
+  EXPECT_EQ(r.regionId, byDefault.regionId);
+  EXPECT_EQ(byDefault.summary.trianglesBelowMinimumAngle, 0u);
+  EXPECT_GT(r.summary.trianglesBelowMinimumAngle, 0u);
+  const std::string warnings = allWarnings(r);
+  EXPECT_NE(warnings.find("stay below MinimumAngle (32 degrees)"), std::string::npos) << warnings;
+  EXPECT_NE(warnings.find("the mesh refined toward MinimumAngle (32 degrees) missed a bound that "
+                          "a mesh refined toward 30 degrees is held to (smallest angle 24.22 "
+                          "degrees"),
+    std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("so it was made again refined toward 30 degrees (smallest angle 30.00 "
+                          "degrees"),
+    std::string::npos)
+    << warnings;
+  EXPECT_NE(warnings.find("the second one is kept (above 30 degrees"), std::string::npos)
+    << warnings;
+  EXPECT_TRUE(std::any_of(r.summary.secondsPerStage.begin(),
+    r.summary.secondsPerStage.end(),
+    [](const auto& s) { return s.first == "discarded angle run"; }));
+
+  const strata::RawPolylines lake =
+    strata_test::readVtpAscii(strata_test::dataPath("lake_superior.vtp"));
+  const strata::MesherResult reached = strata::triangulate(lake, p);
+  EXPECT_GE(reached.summary.minAngle, 32.0 - 0.05);
+  EXPECT_EQ(allWarnings(reached).find("made again refined toward"), std::string::npos)
+    << allWarnings(reached);
+}

@@ -115,8 +115,8 @@ const std::vector<BadValue> BadValues = {
     [](auto* f) { f->SetBoundaryTolerance(-1.0); },
     "BoundaryTolerance = -1 is out of range [0, 10]" },
   { "MinimumAngle",
-    [](auto* f) { f->SetMinimumAngle(40.0); },
-    "MinimumAngle = 40 is out of range [0, 34]" },
+    [](auto* f) { f->SetMinimumAngle(34.0); },
+    "MinimumAngle = 34 is out of range [0, 33]" },
 };
 
 } // namespace
@@ -213,6 +213,7 @@ TEST(PropertyValidationTest, values_on_the_range_bounds_are_accepted)
   mesher->SetFeatureAngle(180.0);
   mesher->SetMaximumEdgeLength(0.0);
   mesher->SetMinimumEdgeLength(0.0);
+  mesher->SetMinimumAngle(33.0);
   auto log = Watch(mesher);
   mesher->Update();
   EXPECT_FALSE(log->Has("out of range")) << log->Errors;
