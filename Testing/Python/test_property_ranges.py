@@ -29,6 +29,17 @@ class PropertyRangeTest(unittest.TestCase):
     def setUp(self):
         self.model = simple.XMLPolyDataReader(FileName=[st.data("pinch_out.vtp")])
 
+    def assert_refused_then_recovered(self, mesh, message, name, value):
+        """The update fails with `message` and no cells; with `name` set to `value` it
+        recovers."""
+        cells, errors = update(mesh)
+        self.assertIn(message, errors)
+        self.assertEqual(cells, 0)
+        setattr(mesh, name, value)
+        cells, errors = update(mesh)
+        self.assertNotIn("out of range", errors)
+        self.assertGreater(cells, 0)
+
     def test_paraview_accepts_out_of_range_values_in_the_proxy(self):
         mesh = NS["PhysicalCompressionTriangulation"](Input=self.model)
         mesh.MaxLevel = 99  # no exception
@@ -38,13 +49,8 @@ class PropertyRangeTest(unittest.TestCase):
 
     def test_out_of_range_max_level_fails_naming_the_property_and_range(self):
         mesh = NS["PhysicalCompressionTriangulation"](Input=self.model, MaxLevel=99)
-        cells, errors = update(mesh)
-        self.assertIn("MaxLevel = 99 is out of range [-1, 60]", errors)
-        self.assertEqual(cells, 0)
-        mesh.MaxLevel = 10
-        cells, errors = update(mesh)
-        self.assertNotIn("out of range", errors)
-        self.assertGreater(cells, 0)
+        self.assert_refused_then_recovered(
+            mesh, "MaxLevel = 99 is out of range [-1, 60]", "MaxLevel", 10)
 
     def test_out_of_range_doubles_fail_naming_the_property_and_range(self):
         mesh = NS["PhysicalCompressionTriangulation"](Input=self.model, SpringStiffness=0.0,
@@ -60,13 +66,8 @@ class PropertyRangeTest(unittest.TestCase):
         mesh = NS["PhysicalCompressionTriangulation"](Input=self.model, MinimumAngle=34.0)
         domain = mesh.GetProperty("MinimumAngle").SMProperty.GetDomain("range")
         self.assertEqual((domain.GetMinimum(0), domain.GetMaximum(0)), (0, 33))
-        cells, errors = update(mesh)
-        self.assertIn("MinimumAngle = 34 is out of range [0, 33]", errors)
-        self.assertEqual(cells, 0)
-        mesh.MinimumAngle = 33.0
-        cells, errors = update(mesh)
-        self.assertNotIn("out of range", errors)
-        self.assertGreater(cells, 0)
+        self.assert_refused_then_recovered(
+            mesh, "MinimumAngle = 34 is out of range [0, 33]", "MinimumAngle", 33.0)
         self.assertGreaterEqual(servermanager.Fetch(mesh).GetFieldData().GetArray(
             "MinimumAngle").GetValue(0), 30.0)
 
