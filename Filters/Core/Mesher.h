@@ -35,8 +35,9 @@ struct MesherParams
   /// where no input or kept corner forces it, the regions' areas within 0.5%, with the automatic
   /// sizes the regions whole and the boundary within half a local edge, the boundary vertices on
   /// the curves) is made again with the refinement toward 30 degrees, and that one is kept when it
-  /// misses fewer of them, or as many with a larger smallest angle (up to 30); a warning says
-  /// which. The triangles below refinement.minimumAngle are counted against it in either.
+  /// misses fewer of them, or as many with a larger smallest angle (up to 30) or as large a one
+  /// with a smaller area error; a warning says which. The triangles below refinement.minimumAngle
+  /// are counted against it in either.
   RefinementParams refinement;
   /// Beyond the paper, with the refinement: curve recovery first (RefinementParams::curvePoint
   /// and regionAt, from the model's curves and distance field): every triangle takes the
