@@ -2951,6 +2951,33 @@ MesherResult triangulateToward(const RawPolylines& input,
 
 } // namespace
 
+int boundsMissedAtThirty(const MesherResult& r, bool automatic, double offCurve)
+{
+  return hardMisses(r,
+           r.summary.minAngleUnforced < kThinLayerRetryAngle - kRetryAngleSlack,
+           automatic,
+           offCurve) +
+    static_cast<int>(automatic && r.summary.maxRelativeDeviation > kDeviationBound);
+}
+
+bool keepsTheMeshTowardThirty(const MesherResult& asked,
+  const MesherResult& towardThirty,
+  bool automatic,
+  double offCurve)
+{
+  const int missesAsked = boundsMissedAtThirty(asked, automatic, offCurve);
+  const int missesThirty = boundsMissedAtThirty(towardThirty, automatic, offCurve);
+  const double goal = kThinLayerRetryAngle - kRetryAngleSlack;
+  const double a1 = std::min(asked.summary.minAngleUnforced, goal);
+  const double a2 = std::min(towardThirty.summary.minAngleUnforced, goal);
+  return towardThirty.summary.triangles > 0 &&
+    (missesThirty != missesAsked
+        ? missesThirty < missesAsked
+        : (a2 > a1 + kRetryAngleSlack ||
+            (a2 >= a1 - kRetryAngleSlack &&
+              towardThirty.summary.maxRegionAreaError < asked.summary.maxRegionAreaError)));
+}
+
 MesherResult triangulate(const RawPolylines& input,
   const MesherParams& params,
   const ProgressCallback& callback)
@@ -2976,30 +3003,14 @@ MesherResult triangulate(const RawPolylines& input,
   MesherResult high = triangulateToward(input, params, progress.sub(0.0, kAboveGoalShare), asked);
   const bool automatic = automaticSizes(params);
   const double offCurve = kOnCurve * inputSize(input);
-  const double goal = kThinLayerRetryAngle - kRetryAngleSlack;
-  // (The smallest angle where neither an input corner nor a kept one forces it.)
-  const auto angleOf = [goal](const MesherResult& r)
-  { return std::min(r.summary.minAngleUnforced, goal); };
-  const auto misses = [&](const MesherResult& r)
-  {
-    return hardMisses(r, angleOf(r) < goal, automatic, offCurve) +
-      static_cast<int>(automatic && r.summary.maxRelativeDeviation > kDeviationBound);
-  };
-  const int missesHigh = misses(high);
-  if (high.summary.triangles == 0 || missesHigh == 0)
+  if (high.summary.triangles == 0 || boundsMissedAtThirty(high, automatic, offCurve) == 0)
   {
     progress.report(1.0, "done");
     return high;
   }
   MesherResult base =
     triangulateToward(input, params, progress.sub(kAboveGoalShare, 1.0), kThinLayerRetryAngle);
-  const int missesBase = misses(base);
-  const bool keepBase = base.summary.triangles > 0 &&
-    (missesBase != missesHigh
-        ? missesBase < missesHigh
-        : (angleOf(base) > angleOf(high) + kRetryAngleSlack ||
-            (angleOf(base) >= angleOf(high) - kRetryAngleSlack &&
-              base.summary.maxRegionAreaError < high.summary.maxRegionAreaError)));
+  const bool keepBase = keepsTheMeshTowardThirty(high, base, automatic, offCurve);
   char text[160];
   std::snprintf(text,
     sizeof(text),

@@ -256,6 +256,23 @@ MesherResult triangulate(const RawPolylines& input,
   const MesherParams& params = {},
   const ProgressCallback& progress = {});
 
+/// What triangulate() does with a MinimumAngle above 30 degrees (MesherParams::refinement):
+/// how many of the bounds of the meshes at 30 degrees mesh r misses. They are its smallest angle
+/// at 30 degrees (by 0.05) where no input or kept corner forces it (Summary::minAngleUnforced),
+/// every region's area within 0.5%, every vertex of the approximated boundary within `offCurve`
+/// of the curves and, with the `automatic` sizes, every region whole (no brokenRegions or
+/// unresolvedRegions) and the boundary within half a local edge (maxRelativeDeviation).
+int boundsMissedAtThirty(const MesherResult& r, bool automatic, double offCurve);
+
+/// Whether triangulate() keeps `towardThirty`, the mesh made again with the refinement toward
+/// 30 degrees, over `asked`, the one toward a MinimumAngle above 30 that missed a bound
+/// (boundsMissedAtThirty): when it misses fewer, or as many with a larger smallest angle (up to
+/// 30, by more than 0.05 degrees), or as large a one with a smaller area error.
+bool keepsTheMeshTowardThirty(const MesherResult& asked,
+  const MesherResult& towardThirty,
+  bool automatic,
+  double offCurve);
+
 /// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
 /// triangles with region -1 count as absent. With `vertices`, also the ids of each curve's
 /// points.
