@@ -307,6 +307,7 @@
 #include <optional>
 #include <queue>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <unordered_map>
@@ -4386,9 +4387,11 @@ void validate(const RefinementParams& p)
 {
   if (!(p.minimumAngle >= 0.0 && p.minimumAngle <= kLargestMinimumAngle))
   {
-    throw ParameterError("MinimumAngle = " + std::to_string(p.minimumAngle) +
-      " is out of range [0, 33] (degrees; Delaunay refinement usually does not end above "
-      "about 33)");
+    std::ostringstream text;
+    text << "MinimumAngle = " << std::to_string(p.minimumAngle) << " is out of range [0, "
+         << kLargestMinimumAngle
+         << "] (degrees; Delaunay refinement usually does not end above about 33)";
+    throw ParameterError(text.str());
   }
   if (!(p.minimumEdgeLength >= 0.0) || !std::isfinite(p.minimumEdgeLength))
   {
