@@ -2712,21 +2712,7 @@ CompressionResult compressWith(const TriangleMesh& grid,
   }
   Compressor compressor(grid, classification, model, field, params, progress, result, spent);
   compressor.run();
-  // Faces removed by collapses (all three corners equal) leave the result.
-  std::size_t kept = 0;
-  for (std::size_t t = 0; t < result.triangles.size(); ++t)
-  {
-    if (result.triangles[t][0] != result.triangles[t][1])
-    {
-      result.triangles[kept] = result.triangles[t];
-      result.triangleLevel[kept] = result.triangleLevel[t];
-      result.triangleRegion[kept] = result.triangleRegion[t];
-      ++kept;
-    }
-  }
-  result.triangles.resize(kept);
-  result.triangleLevel.resize(kept);
-  result.triangleRegion.resize(kept);
+  dropCollapsedTriangles(result);
   if (result.degenerateTriangles > 0)
   {
     result.warnings.push_back(std::to_string(result.degenerateTriangles) +
@@ -2740,6 +2726,27 @@ CompressionResult compressWith(const TriangleMesh& grid,
   return result;
 }
 } // namespace
+
+std::size_t dropCollapsedTriangles(CompressionResult& r)
+{
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const std::array<int, 3>& tri = r.triangles[t];
+    if (tri[0] != tri[1]) // (a collapse sets all three corners to the vertex kept)
+    {
+      r.triangles[kept] = tri;
+      r.triangleLevel[kept] = r.triangleLevel[t];
+      r.triangleRegion[kept] = r.triangleRegion[t];
+      ++kept;
+    }
+  }
+  const std::size_t dropped = r.triangles.size() - kept;
+  r.triangles.resize(kept);
+  r.triangleLevel.resize(kept);
+  r.triangleRegion.resize(kept);
+  return dropped;
+}
 
 CompressionResult compress(const TriangleMesh& grid,
   const Classification& classification,

@@ -230,6 +230,11 @@ CompressionResult compress(const TriangleMesh& grid,
   const CompressionParams& params = {},
   const ProgressReporter& progress = ProgressReporter());
 
+/// Drops the triangles a collapse removed (all three corners the same vertex) from `r`'s
+/// triangles, levels and regions, keeping the others in order; the collapsed vertices stay in
+/// `r.points`, used by no triangle. Returns how many were dropped.
+std::size_t dropCollapsedTriangles(CompressionResult& r);
+
 /// Paper 6.5 on a plain counter-clockwise triangle list: every triangle with an angle below
 /// smallAngle degrees gets its longest edge flipped when both new triangles are
 /// counter-clockwise and the smaller of the two triangles' smallest angles grows; repeated

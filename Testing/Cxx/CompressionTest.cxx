@@ -622,3 +622,22 @@ TEST(CompressionTest, ASplitSimulationKeepsTheInvariants)
     }
   }
 }
+
+// The triangles a collapse removed (all corners the vertex kept) leave the result with their
+// levels and regions; the others keep their order, and the points stay.
+TEST(CompressionTest, CollapsedTrianglesAreDroppedWithTheirLevelsAndRegions)
+{
+  strata::CompressionResult r;
+  r.points = { { 0, 0 }, { 1, 0 }, { 0, 1 }, { 1, 1 } };
+  r.triangles = { { 0, 1, 2 }, { 3, 3, 3 }, { 1, 3, 2 }, { 2, 2, 2 } };
+  r.triangleLevel = { 5, 6, 7, 8 };
+  r.triangleRegion = { 0, 1, 2, 3 };
+  EXPECT_EQ(strata::dropCollapsedTriangles(r), 2u);
+  const strata::LargeVector<std::array<int, 3>> kept = { { 0, 1, 2 }, { 1, 3, 2 } };
+  EXPECT_EQ(r.triangles, kept);
+  EXPECT_EQ(r.triangleLevel, (strata::LargeVector<int>{ 5, 7 }));
+  EXPECT_EQ(r.triangleRegion, (strata::LargeVector<int>{ 0, 2 }));
+  EXPECT_EQ(r.points.size(), 4u);
+  EXPECT_EQ(strata::dropCollapsedTriangles(r), 0u);
+  EXPECT_EQ(r.triangles, kept);
+}
