@@ -231,12 +231,12 @@ public:
    * RefinementVertices counts the vertices inserted. Above 30 the bound is reached less
    * often, with several times the triangles; a mesh that then misses a bound of the meshes
    * at 30 (a triangle below 30 degrees that no input corner forces, a region's area off by
-   * more than 0.5%, a region cut, the boundary more than half a local edge off) is made again
-   * with the refinement toward 30 degrees, and the one missing fewer kept (a warning says
-   * which; TrianglesBelowMinimumAngle still counts against this). Delaunay refinement is known to
-   * end in practice only up to about 33 degrees (Shewchuk's Triangle), hence the range's end: at 34
-   * it ran for minutes into worse meshes. Degrees, range [0, 33]; default 30; 0 turns the
-   * refinement off.
+   * more than 0.5%, a region cut, the boundary more than half a local edge off, a vertex of
+   * the approximated boundary off the curves) is made again with the refinement toward 30
+   * degrees, and the one missing fewer kept (a warning says which; TrianglesBelowMinimumAngle
+   * still counts against this). Delaunay refinement is known to end in practice only up to
+   * about 33 degrees (Shewchuk's Triangle), hence the range's end: at 34 it ran for minutes
+   * into worse meshes. Degrees, range [0, 33]; default 30; 0 turns the refinement off.
    */
   vtkSetMacro(MinimumAngle, double);
   vtkGetMacro(MinimumAngle, double);

@@ -413,8 +413,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     for (const int u : around)
     {
       double d = 0.0;
-      rails.closest(mesh.points[u], scratch, &d);
-      if (!stale[u] && d <= tolerance)
+      if (!stale[u] && (rails.closest(mesh.points[u], scratch, &d), d <= tolerance))
       {
         onCurve.emplace_back(norm2(mesh.points[u] - mesh.points[v]), u);
       }
