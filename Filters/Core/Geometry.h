@@ -94,6 +94,24 @@ inline double pointSegmentDistance2(Vec2 p, Vec2 a, Vec2 b, double* t = nullptr)
   return norm2(p - q);
 }
 
+/// Squared distance between segments ab and cd: 0 where they cross or touch, else the least
+/// of their ends' distances to the other segment.
+inline double segmentSegmentDistance2(Vec2 a, Vec2 b, Vec2 c, Vec2 d)
+{
+  const double o1 = orient2d(a, b, c), o2 = orient2d(a, b, d);
+  const double o3 = orient2d(c, d, a), o4 = orient2d(c, d, b);
+  const bool collinear = o1 == 0.0 && o2 == 0.0 && o3 == 0.0 && o4 == 0.0;
+  if (!collinear && !(o1 > 0.0 && o2 > 0.0) && !(o1 < 0.0 && o2 < 0.0) && !(o3 > 0.0 && o4 > 0.0) &&
+    !(o3 < 0.0 && o4 < 0.0))
+  {
+    return 0.0;
+  }
+  return std::min({ pointSegmentDistance2(a, c, d),
+    pointSegmentDistance2(b, c, d),
+    pointSegmentDistance2(c, a, b),
+    pointSegmentDistance2(d, a, b) });
+}
+
 /// Hints the processor to fetch the cache line at `address` (no effect where unsupported).
 inline void prefetch(const void* address)
 {

@@ -182,11 +182,12 @@ struct MesherResult
     double maxBoundaryDeviation = 0.0;
     /// The largest of the deviations above, each divided by the local edge there (the mean
     /// edge length of the triangles beside the approximated boundary's nearest edge), the
-    /// input curves sampled every quarter finest edge, leaving out the curve points beside a
-    /// region narrower than finestEdgeLength (issue 5's exemption: another curve within it
-    /// along the curve's normal, or the disc of that diameter touching the point, shrunk by
-    /// 10%, cut by a curve) and the points of the approximated boundary whose nearest curve
-    /// point is beside such a region; 0 when there is none.
+    /// input curves sampled every quarter finest edge (and, where a deviation above 0.5 may
+    /// lie between two samples, between them down to 0.005 local edges), leaving out the
+    /// curve points beside a region narrower than finestEdgeLength (issue 5's exemption:
+    /// another curve within it along the curve's normal, or the disc of that diameter
+    /// touching the point, shrunk by 10%, cut by a curve) and the points of the approximated
+    /// boundary whose nearest curve point is beside such a region; 0 when there is none.
     /// Above 0.5 (issue 5's bound is half the local edge) a piece of a region that the finest
     /// edges could represent is lost to its neighbour (or one is added).
     double maxRelativeDeviation = 0.0;

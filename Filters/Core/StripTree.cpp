@@ -805,6 +805,48 @@ bool SegmentGrid::smallestValue(Vec2 p,
   return true;
 }
 
+bool SegmentGrid::smallestValueNear(Vec2 a,
+  Vec2 b,
+  double r,
+  const std::vector<double>& value,
+  double& smallest) const
+{
+  const double reach = r * (1.0 + 1e-9);
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(a.x) ||
+    !std::isfinite(a.y) || !std::isfinite(b.x) || !std::isfinite(b.y) ||
+    value.size() != this->A.size())
+  {
+    return false;
+  }
+  const auto [i0, i1, j0, j1] = this->cellsUnder(std::min(a.x, b.x) - reach,
+    std::max(a.x, b.x) + reach,
+    std::min(a.y, b.y) - reach,
+    std::max(a.y, b.y) + reach);
+  double least = std::numeric_limits<double>::infinity();
+  if (i0 <= i1 && j0 <= j1)
+  {
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
+    {
+      return false;
+    }
+    for (int j = j0; j <= j1; ++j)
+    {
+      const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+      for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+      {
+        const int s = this->Items[k];
+        if (value[s] < least &&
+          segmentSegmentDistance2(a, b, this->A[s], this->B[s]) <= reach * reach)
+        {
+          least = value[s];
+        }
+      }
+    }
+  }
+  smallest = least;
+  return true;
+}
+
 bool SegmentGrid::noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const
 {
   const Vec2 corner[3] = { a, b, c };

@@ -105,6 +105,15 @@ public:
   /// true, or false (smallest untouched) for a box of more than 64 cells, a NaN or infinite
   /// p or r, or a `value` list without one entry per segment.
   bool smallestValue(Vec2 p, double r, const std::vector<double>& value, double& smallest) const;
+  /// The smallest value[s] over the segments s within r of the segment from a to b (exactly:
+  /// segmentSegmentDistance2; +infinity for none): true, or false (smallest untouched) for a
+  /// box of more than 64 cells, a NaN or infinite a, b or r, or a `value` list without one
+  /// entry per segment.
+  bool smallestValueNear(Vec2 a,
+    Vec2 b,
+    double r,
+    const std::vector<double>& value,
+    double& smallest) const;
   /// True only when no segment has a point more than `depth` inside the counter-clockwise
   /// triangle abc (its distance to the nearest of the triangle's side lines; points within a
   /// relative 1e-6 of `depth` count as deeper). False when the cells cannot tell: a box of

@@ -908,7 +908,7 @@ TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBoun
   ASSERT_NE(stage("discarded run"), stages.end());
   EXPECT_GE(thin.summary.totalSeconds, stage("discarded run")->second);
   ASSERT_NE(stage("discarded level run"), stages.end());
-  EXPECT_NE(all.find("had its boundary 0.50 local edges off the input curves"), std::string::npos)
+  EXPECT_NE(all.find("had its boundary 0.5009 local edges off the input curves"), std::string::npos)
     << all;
   EXPECT_NE(all.find("the finer one is kept"), std::string::npos) << all;
 
@@ -1775,9 +1775,12 @@ TEST(MesherTest, ALakesCornerALittleWiderThanARightAngleIsAMeshVertex)
 // A layer the mesh cuts where it is about 1.3 finest edges thick (broken_layer_section.vtp,
 // region 3, one piece in the model; LocalMaxLevel 14 automatic): the mesh made once has it in
 // two pieces, and names it (brokenRegions, a warning with both counts). ThinLayerRetry makes
-// the mesh again 4 levels finer, where the layer is one piece, and keeps that one; with the
-// level set by the user the cut layer stays, named.
-TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAtAFinerLevel)
+// the mesh again and keeps one where the layer is one piece: since 2026-12-06, when the
+// boundary measure looks between its samples, it sees the cut as a boundary miss too (0.59
+// local edges), and the mesh made again with ThinLayerRefinement around the misses at the
+// same level keeps the layer whole (before, 4 levels finer: 17911 triangles against 14126).
+// With the level set by the user the cut layer stays, named.
+TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAgain)
 {
   const auto [raw, r] = madeOnce("broken_layer_section.vtp");
   const double floor = 4.0 * r.summary.finestEdgeLength * r.summary.finestEdgeLength;
@@ -1794,7 +1797,8 @@ TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAtAFinerLevel)
   }
 
   const strata::MesherResult d = strata::triangulate(raw);
-  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel + 4);
+  EXPECT_EQ(d.summary.localMaxLevel, r.summary.localMaxLevel);
+  EXPECT_TRUE(d.summary.thinLayerMesh);
   EXPECT_TRUE(d.brokenRegions.empty());
   const double finerFloor = 4.0 * d.summary.finestEdgeLength * d.summary.finestEdgeLength;
   for (int region = 0; region < 7; ++region)
@@ -1803,10 +1807,11 @@ TEST(MesherTest, ALayerTheMeshCutsIsNamedAndMadeWholeAtAFinerLevel)
   }
   EXPECT_GE(d.summary.minAngle, 29.95);
   EXPECT_LE(d.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(d.summary.maxRelativeDeviation, 0.5);
   const std::string dw = allWarnings(d);
-  EXPECT_NE(dw.find("cut 1 region(s) into more pieces than the model has"), std::string::npos)
-    << dw;
-  EXPECT_NE(dw.find("the finer one is kept"), std::string::npos) << dw;
+  EXPECT_NE(dw.find("1 regions cut"), std::string::npos) << dw;
+  EXPECT_NE(dw.find("0 regions cut"), std::string::npos) << dw;
+  EXPECT_NE(dw.find("the second one is kept"), std::string::npos) << dw;
 
   strata::MesherParams set;
   set.grid.localMaxLevel = r.summary.localMaxLevel;
@@ -2085,7 +2090,7 @@ TEST(MesherTest, ABoundaryMissByAHairIsMadeAgainFiner)
   expectEveryTriangleAtThirtyWithinTheBounds(r);
   EXPECT_LE(boundaryDeviationOverLocalEdge(strata::buildModel(raw), r), 0.5);
   EXPECT_EQ(r.summary.localMaxLevel, 19);
-  EXPECT_NE(allWarnings(r).find("had its boundary 0.50 local edges off the input curves"),
+  EXPECT_NE(allWarnings(r).find("had its boundary 0.5028 local edges off the input curves"),
     std::string::npos)
     << allWarnings(r);
 }
@@ -2158,6 +2163,32 @@ TEST(MesherTest, AVertexPushedPastACurveBesideOneOnItIsMergedIntoIt)
       << warnings;
   }
   expectEveryTriangleAtThirtyWithinTheBounds(byDefault);
+}
+
+// A peak of the boundary's deviation between two of the mesher's curve samples
+// (kink_peak_section.vtp, f706 of random_faulted_sections.py 700 712). At LocalMaxLevel 16 with
+// ThinLayerRefinement (the mesh kept by default until 2026-12-06) the distance from a layer's
+// boundary to the mesh's rises to a kink where the next boundary edge becomes the nearest, whose
+// local edge is 28% longer: 0.515 local edges just before it, by the quality table's measure,
+// where the samples a quarter finest edge apart on either side gave 0.48 and 0.41, and the mesh
+// was kept as within the bound. The peak is looked for between the samples: that mesh is a
+// miss, with a warning, and the default settings make a mesh within the bound by either
+// measure.
+TEST(MesherTest, ABoundaryDeviationPeakBetweenTwoSamplesIsSeenAndTheMeshMadeAgain)
+{
+  const auto [raw, byDefault] = madeByDefault("kink_peak_section.vtp");
+  const strata::Model model = strata::buildModel(raw);
+  strata::MesherParams once;
+  once.grid.localMaxLevel = 16;
+  once.grid.thinLayerRefinement = true;
+  once.thinLayerRetry = false;
+  const strata::MesherResult o = strata::triangulate(raw, once);
+  ASSERT_GT(boundaryDeviationOverLocalEdge(model, o), 0.5);
+  EXPECT_GT(o.summary.maxRelativeDeviation, 0.5);
+  EXPECT_NE(allWarnings(o).find("more than half the local edge"), std::string::npos);
+
+  expectEveryTriangleAtThirtyWithinTheBounds(byDefault);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, byDefault), 0.5);
 }
 
 // Two free vertices closer than the refinement's floor inside a country

@@ -746,6 +746,96 @@ TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reac
   EXPECT_EQ(least, -1.0);
 }
 
+TEST(StripTreeTest, segment_grid_smallest_value_near_a_segment_is_that_of_the_segments_within_reach)
+{
+  // smallestValueNear(a, b, r) is exactly the smallest value of the segments within r of the
+  // segment ab: random values, query segments of a few lengths, radii. The distance between two
+  // segments here: the least distance of a point of ab to cd, convex along ab, by a ternary
+  // search.
+  const Segments s = readSegments("lake_superior.vtp");
+  const double size = std::max(s.box.width(), s.box.height());
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> value(s.a.size());
+  for (double& v : value)
+  {
+    v = u(rng) < 0.1 ? std::numeric_limits<double>::infinity() : u(rng);
+  }
+  const auto distance = [](Vec2 a, Vec2 b, Vec2 c, Vec2 d)
+  {
+    const auto at = [&](double t)
+    { return std::sqrt(strata::pointSegmentDistance2(a + t * (b - a), c, d)); };
+    double lo = 0.0, hi = 1.0;
+    for (int k = 0; k < 100; ++k)
+    {
+      const double m1 = lo + (hi - lo) / 3.0, m2 = hi - (hi - lo) / 3.0;
+      if (at(m1) <= at(m2))
+      {
+        hi = m2;
+      }
+      else
+      {
+        lo = m1;
+      }
+    }
+    return std::min({ at(0.0), at(1.0), at(0.5 * (lo + hi)) });
+  };
+  const double cell = size / 256.0;
+  const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
+  std::size_t told = 0, queries = 0, wrong = 0, some = 0;
+  // (Query segments from points within two cells of a random segment of the shore.)
+  std::uniform_int_distribution<std::size_t> which(0, s.a.size() - 1);
+  for (int n = 0; n < 150; ++n)
+  {
+    const std::size_t i = which(rng);
+    const Vec2 p = s.a[i] + u(rng) * (s.b[i] - s.a[i]) +
+      (2.0 * cell) * Vec2{ 2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0 };
+    for (const double length : { 0.0, 0.5, 3.0 })
+    {
+      const double angle = 6.283185307179586 * u(rng);
+      const Vec2 q = p + length * cell * Vec2{ std::cos(angle), std::sin(angle) };
+      for (const double f : { 0.0, 0.3, 1.0 })
+      {
+        const double r = f * cell;
+        double least = -1.0;
+        ++queries;
+        if (!grid.smallestValueNear(p, q, r, value, least))
+        {
+          wrong += least != -1.0; // untouched
+          continue;
+        }
+        ++told;
+        // The smallest value within r, and within r up to rounding (1e-9 of the model's size).
+        const double inf = std::numeric_limits<double>::infinity(), slack = 1e-9 * size;
+        double inner = inf, outer = inf;
+        for (std::size_t i = 0; i < s.a.size(); ++i)
+        {
+          const double d = std::min(std::sqrt(strata::pointSegmentDistance2(p, s.a[i], s.b[i])),
+            std::sqrt(strata::pointSegmentDistance2(q, s.a[i], s.b[i])));
+          if (d - r > length * cell + slack)
+          {
+            continue; // (no point of pq is within r)
+          }
+          const double exact = distance(p, q, s.a[i], s.b[i]);
+          inner = exact <= r - slack ? std::min(inner, value[i]) : inner;
+          outer = exact <= r + slack ? std::min(outer, value[i]) : outer;
+        }
+        wrong += !(outer <= least && least <= inner);
+        some += least < std::numeric_limits<double>::infinity();
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_GT(told, queries / 2);
+  EXPECT_GT(some, queries / 4);
+  double least = -1.0;
+  EXPECT_FALSE(grid.smallestValueNear({ 0.0, 0.0 }, { 1.0, 0.0 }, 100.0 * size, value, least));
+  EXPECT_FALSE(grid.smallestValueNear(
+    { std::numeric_limits<double>::quiet_NaN(), 0.0 }, { 0.0, 0.0 }, 1.0, value, least));
+  EXPECT_FALSE(grid.smallestValueNear(s.a[0], s.b[0], 1.0, std::vector<double>(1, 0.0), least));
+  EXPECT_EQ(least, -1.0);
+}
+
 TEST(StripTreeTest, segment_grid_none_inside_only_when_no_segment_reaches_that_deep)
 {
   // noneInside(a, b, c, depth) is true only when no segment has a point more than depth inside
