@@ -772,19 +772,16 @@ bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
   return true;
 }
 
-bool SegmentGrid::smallestValue(Vec2 p,
-  double r,
+template<typename Counts>
+bool SegmentGrid::smallestUnder(double xlo,
+  double xhi,
+  double ylo,
+  double yhi,
   const std::vector<double>& value,
+  Counts&& counts,
   double& smallest) const
 {
-  const double reach = r * (1.0 + 1e-9);
-  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
-    !std::isfinite(p.y) || value.size() != this->A.size())
-  {
-    return false;
-  }
-  const auto [i0, i1, j0, j1] =
-    this->cellsUnder(p.x - reach, p.x + reach, p.y - reach, p.y + reach);
+  const auto [i0, i1, j0, j1] = this->cellsUnder(xlo, xhi, ylo, yhi);
   double least = std::numeric_limits<double>::infinity();
   if (i0 <= i1 && j0 <= j1)
   {
@@ -797,12 +794,31 @@ bool SegmentGrid::smallestValue(Vec2 p,
       const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
       for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
       {
-        least = std::min(least, value[this->Items[k]]);
+        const int s = this->Items[k];
+        if (value[s] < least && counts(s))
+        {
+          least = value[s];
+        }
       }
     }
   }
   smallest = least;
   return true;
+}
+
+bool SegmentGrid::smallestValue(Vec2 p,
+  double r,
+  const std::vector<double>& value,
+  double& smallest) const
+{
+  const double reach = r * (1.0 + 1e-9);
+  if (this->Start.empty() || !(r >= 0.0) || !std::isfinite(reach) || !std::isfinite(p.x) ||
+    !std::isfinite(p.y) || value.size() != this->A.size())
+  {
+    return false;
+  }
+  return this->smallestUnder(
+    p.x - reach, p.x + reach, p.y - reach, p.y + reach, value, [](int) { return true; }, smallest);
 }
 
 bool SegmentGrid::smallestValueNear(Vec2 a,
@@ -818,33 +834,14 @@ bool SegmentGrid::smallestValueNear(Vec2 a,
   {
     return false;
   }
-  const auto [i0, i1, j0, j1] = this->cellsUnder(std::min(a.x, b.x) - reach,
+  return this->smallestUnder(
+    std::min(a.x, b.x) - reach,
     std::max(a.x, b.x) + reach,
     std::min(a.y, b.y) - reach,
-    std::max(a.y, b.y) + reach);
-  double least = std::numeric_limits<double>::infinity();
-  if (i0 <= i1 && j0 <= j1)
-  {
-    if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
-    {
-      return false;
-    }
-    for (int j = j0; j <= j1; ++j)
-    {
-      const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
-      for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
-      {
-        const int s = this->Items[k];
-        if (value[s] < least &&
-          segmentSegmentDistance2(a, b, this->A[s], this->B[s]) <= reach * reach)
-        {
-          least = value[s];
-        }
-      }
-    }
-  }
-  smallest = least;
-  return true;
+    std::max(a.y, b.y) + reach,
+    value,
+    [&](int s) { return segmentSegmentDistance2(a, b, this->A[s], this->B[s]) <= reach * reach; },
+    smallest);
 }
 
 bool SegmentGrid::noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const

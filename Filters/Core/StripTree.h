@@ -133,6 +133,16 @@ private:
   };
   CellRange cellsUnder(double xlo, double xhi, double ylo, double yhi) const;
   int emptyCells(int i0, int i1, int j0, int j1) const;
+  // The smallest value[s] over the segments s listed in the cells under the box that
+  // counts(s) accepts (+infinity for none): false for a box of more than 64 cells.
+  template<typename Counts>
+  bool smallestUnder(double xlo,
+    double xhi,
+    double ylo,
+    double yhi,
+    const std::vector<double>& value,
+    Counts&& counts,
+    double& smallest) const;
 
   std::vector<Vec2> A, B;
   Vec2 Origin;

@@ -691,6 +691,21 @@ TEST(StripTreeTest, segment_grid_answers_as_the_tree)
   }
 }
 
+namespace
+{
+// One value per segment: at random in [0, 1), or +infinity for one in ten.
+std::vector<double> randomValues(std::size_t n, std::mt19937_64& rng)
+{
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<double> value(n);
+  for (double& v : value)
+  {
+    v = u(rng) < 0.1 ? std::numeric_limits<double>::infinity() : u(rng);
+  }
+  return value;
+}
+} // namespace
+
 TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reach)
 {
   // smallestValue(p, r) is at most the value of every segment within r of p, and is the value
@@ -700,11 +715,7 @@ TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reac
   const double size = std::max(s.box.width(), s.box.height());
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<double> value(s.a.size());
-  for (double& v : value)
-  {
-    v = u(rng) < 0.1 ? std::numeric_limits<double>::infinity() : u(rng);
-  }
+  const std::vector<double> value = randomValues(s.a.size(), rng);
   for (const double cell : { size / 64.0, size / 512.0 })
   {
     SCOPED_TRACE(cell);
@@ -756,11 +767,7 @@ TEST(StripTreeTest, segment_grid_smallest_value_near_a_segment_is_that_of_the_se
   const double size = std::max(s.box.width(), s.box.height());
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<double> value(s.a.size());
-  for (double& v : value)
-  {
-    v = u(rng) < 0.1 ? std::numeric_limits<double>::infinity() : u(rng);
-  }
+  const std::vector<double> value = randomValues(s.a.size(), rng);
   const auto distance = [](Vec2 a, Vec2 b, Vec2 c, Vec2 d)
   {
     const auto at = [&](double t)
