@@ -714,7 +714,6 @@ TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reac
   const Segments s = readSegments("lake_superior.vtp");
   const double size = std::max(s.box.width(), s.box.height());
   std::mt19937_64 rng(17);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
   const std::vector<double> value = randomValues(s.a.size(), rng);
   for (const double cell : { size / 64.0, size / 512.0 })
   {
