@@ -364,6 +364,8 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   // the others of the merged vertex's star have the kept one instead. The kept vertex's star
   // (star[]) then misses those: it is left as it is (stale).
   const auto gone = [&](int t) { return mesh.triangles[t][0] == mesh.triangles[t][1]; };
+  const auto has = [](const std::array<int, 3>& tri, int w)
+  { return tri[0] == w || tri[1] == w || tri[2] == w; };
   LargeVector<std::uint8_t> stale(merge ? np : 0, 0);
   bool merged = false;
   // Whether v's star, v at `to` (and, merging into u, the triangles with u left out), stays
@@ -373,7 +375,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     for (int s = start[v]; s < start[v + 1]; ++s)
     {
       const std::array<int, 3>& tri = mesh.triangles[star[s]];
-      if (gone(star[s]) || tri[0] == u || tri[1] == u || tri[2] == u)
+      if (gone(star[s]) || has(tri, u))
       {
         continue;
       }
@@ -430,7 +432,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
       for (int s = start[v]; s < start[v + 1]; ++s)
       {
         const std::array<int, 3>& tri = mesh.triangles[star[s]];
-        if (!gone(star[s]) && (tri[0] == u || tri[1] == u || tri[2] == u))
+        if (!gone(star[s]) && has(tri, u))
         {
           third.push_back(tri[0] + tri[1] + tri[2] - u - v);
         }
@@ -447,7 +449,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
       for (int s = start[v]; s < start[v + 1]; ++s)
       {
         std::array<int, 3>& tri = mesh.triangles[star[s]];
-        const bool beside = tri[0] == u || tri[1] == u || tri[2] == u;
+        const bool beside = has(tri, u);
         for (int& w : tri)
         {
           w = beside || w == v ? u : w;
@@ -2140,6 +2142,10 @@ MesherResult triangulateOnce(const RawPolylines& input,
       }
       return false;
     };
+    // Whether a curve point x, of unit normal n, is beside a region narrower than the finest
+    // edge on either side.
+    const auto narrowBeside = [&](Vec2 x, Vec2 n, StripTreeScratch& heap)
+    { return narrow(x, n, finest, heap) || narrow(x, -1.0 * n, finest, heap); };
     // Whether the curves' point nearest p is beside a region narrower than the finest edge.
     const auto nearNarrow = [&](Vec2 p, StripTreeScratch& heap)
     {
@@ -2148,9 +2154,8 @@ MesherResult triangulateOnce(const RawPolylines& input,
       {
         return false;
       }
-      const Vec2 x = rails.position(l), u = rails.tangent(l);
-      return narrow(x, Vec2{ -u.y, u.x }, finest, heap) ||
-        narrow(x, Vec2{ u.y, -u.x }, finest, heap);
+      const Vec2 u = rails.tangent(l);
+      return narrowBeside(rails.position(l), Vec2{ -u.y, u.x }, heap);
     };
     std::vector<Vec2> a, b;
     std::vector<double> h;    // localEdge of segment a -> b
@@ -2318,14 +2323,10 @@ MesherResult triangulateOnce(const RawPolylines& input,
         {
           return; // (the probes below only for a new largest or a miss)
         }
-        for (const double side : { 1.0, -1.0 })
+        if (!narrowBeside(p, n, part.heap))
         {
-          if (narrow(p, side * n, finest, part.heap))
-          {
-            return;
-          }
+          part.note(d, h[s], p);
         }
-        part.note(d, h[s], p);
       };
       // A sample is tested a hair inside its segment (at a corner's apex, its own side): 1e-4
       // of its way to the segment's middle, at most 0.5% of the finest edge, as the quality
@@ -2400,13 +2401,16 @@ MesherResult triangulateOnce(const RawPolylines& input,
             s.d = toMesh(p + (static_cast<double>(j) / m) * (r - p), part, s.segment);
             return s;
           };
+          // The point at f along the segment, a hair inside it.
+          const auto hairAt = [&](double f)
+          { return p + (f + hairOf(length) * (0.5 - f)) * (r - p); };
           // The relative deviation of the point at f along the segment, at distance d from the
           // mesh's boundary, its nearest boundary edge `segment` (-1: unknown).
           const auto relativeAt = [&](double f, double d, int segment)
           {
             if (length > 0.0)
             {
-              relativeTo(p + (f + hairOf(length) * (0.5 - f)) * (r - p), normal, d, segment, part);
+              relativeTo(hairAt(f), normal, d, segment, part);
             }
           };
           const auto take = [&](const Part::Sample& s)
@@ -2520,9 +2524,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
           {
             if (s.narrow < 0)
             {
-              const Vec2 q = p + (f + hairOf(length) * (0.5 - f)) * (r - p);
-              s.narrow =
-                narrow(q, normal, finest, part.heap) || narrow(q, -1.0 * normal, finest, part.heap);
+              s.narrow = narrowBeside(hairAt(f), normal, part.heap);
             }
             return s.narrow == 1;
           };

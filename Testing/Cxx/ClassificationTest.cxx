@@ -157,16 +157,7 @@ private:
 
   static double segmentDistance(Vec2 a, Vec2 b, Vec2 c, Vec2 d)
   {
-    const double o1 = strata::orient2d(a, b, c), o2 = strata::orient2d(a, b, d);
-    const double o3 = strata::orient2d(c, d, a), o4 = strata::orient2d(c, d, b);
-    if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
-    {
-      return 0.0;
-    }
-    return std::sqrt(std::min({ strata::pointSegmentDistance2(a, c, d),
-      strata::pointSegmentDistance2(b, c, d),
-      strata::pointSegmentDistance2(c, a, b),
-      strata::pointSegmentDistance2(d, a, b) }));
+    return std::sqrt(strata::segmentSegmentDistance2(a, b, c, d));
   }
 
   void range(double xa, double ya, double xb, double yb, int& x0, int& y0, int& x1, int& y1) const
