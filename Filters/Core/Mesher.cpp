@@ -22,9 +22,10 @@
 //                       vertex classes, displacements, approximated boundary chained into
 //                       Shared curves, summary (angles, boundary deviation both ways, its
 //                       distances through SegmentGrids first, and over the local edge: the
-//                       curves sampled every quarter finest edge on two threads, and between
-//                       two samples where a deviation above half the local edge may lie,
-//                       halving the gap down to 0.005 local edges; region areas),
+//                       curves sampled every quarter finest edge and the mesh's boundary
+//                       every eighth of an edge, on two threads, and between two samples
+//                       where a deviation above half the local edge may lie, halving the
+//                       gap down to 0.001 local edges; region areas),
 //                       regions keeping less than half their area reported by id, and
 //                       regions cut into more pieces than the model has or left with fewer
 //                       (pieces joined across edges, at least 4 median boundary edges squared;
@@ -514,9 +515,10 @@ constexpr double kDeviationBound = 0.5;
 constexpr double kNarrowMargin = 0.1;
 constexpr int kDeviationSamples = 512;   // curve -> mesh samples per model segment, at most
 constexpr int kDeviationJump = 128;      // ... of which one stretch skips at most this many
-// ... and between two of them a deviation above kDeviationBound is looked for, halving the gap
-// down to this many local edges, at most this many times.
-constexpr double kPeakTolerance = 0.005;
+// ... and between two of them (and between the mesh boundary's samples) a deviation above
+// kDeviationBound is looked for, halving the gap down to this many local edges (a peak missed
+// is then at most half of it above the samples), at most this many times.
+constexpr double kPeakTolerance = 0.001;
 constexpr int kPeakDepth = 24;
 constexpr int kChainEdges = 64;          // ... the bound along a boundary curve, this many edges
 constexpr std::size_t kMaxMisses = 1024; // MesherResult::boundaryMisses, at most
@@ -2118,9 +2120,14 @@ MesherResult triangulateOnce(const RawPolylines& input,
     // kNarrowMargin, is cut by a curve (a thin region's end, a corner sharper than about
     // 155 degrees; the margin leaves out the next segment where p's curve bends less, which
     // cuts the unshrunk disc at any bend: lake shores' inlets a few finest edges wide were
-    // left out unseen so). The ray by sphere tracing with the distance to the curves (p's
+    // left out unseen so). The ray's first crossing with a curve beyond 1e-7 width, exactly,
+    // through the curves' cells (SegmentGrid::firstCrossing), as the quality table tests it;
+    // where the cells cannot tell, by sphere tracing with the distance to the curves (p's
     // own segment lies t away at p + t u, so the steps grow geometrically; a curve crossed is
-    // reached within 1e-3 t); a grazing ray not settled in 96 steps counts as free.
+    // reached within 1e-3 t); a grazing ray not settled in 96 steps counts as free. (The
+    // tracing alone counted curves up to about 1e-3 width beyond the width: f308 of
+    // random_faulted_sections.py 300 312 left out a curve point 0.5023 local edges off, whose
+    // ray meets the other curve 1.00002 finest edges away.)
     const auto narrow = [&](Vec2 p, Vec2 u, double width, StripTreeScratch& heap)
     {
       double disc = 0.0;
@@ -2130,6 +2137,11 @@ MesherResult triangulateOnce(const RawPolylines& input,
         return true;
       }
       double t = 1e-7 * width; // (below the width of a 1-degree spike beside its apex)
+      double crossing = 0.0;
+      if (railCells.firstCrossing(p, u, t, width, crossing))
+      {
+        return crossing < width;
+      }
       for (int k = 0; k < 96 && t < width; ++k)
       {
         double step = 0.0;
@@ -2222,27 +2234,87 @@ MesherResult triangulateOnce(const RawPolylines& input,
               part.vertex = dv;
               part.vertexAt = a[s];
             }
-            for (double f : { 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875 })
+            // A point at f along the edge: its distance to the curves, and whether its
+            // nearest curve point is beside a region narrower than the finest edge (-1:
+            // unknown).
+            struct EdgePoint
             {
-              const Vec2 q = a[s] + f * (b[s] - a[s]);
-              const double d = toCurvesWith(q, part.heap);
-              part.mesh = std::max(part.mesh, d);
-              // (the nearest curve point's region test only for a new largest or a miss)
-              if (h[s] > 0.0 && d > std::min(part.relative, kDeviationBound) * h[s] &&
-                !nearNarrow(q, part.heap))
+              double f, d;
+              int narrow;
+            };
+            const auto at = [&](const EdgePoint& e) { return a[s] + e.f * (b[s] - a[s]); };
+            const auto narrowOf = [&](EdgePoint& e)
+            {
+              if (e.narrow < 0)
               {
-                if (d > kDeviationBound * h[s])
+                e.narrow = nearNarrow(at(e), part.heap);
+              }
+              return e.narrow == 1;
+            };
+            // (the nearest curve point's region test only for a new largest or a miss)
+            const auto note = [&](EdgePoint& e)
+            {
+              if (h[s] > 0.0 && e.d > std::min(part.relative, kDeviationBound) * h[s] &&
+                !narrowOf(e))
+              {
+                if (e.d > kDeviationBound * h[s])
                 {
-                  part.above.push_back({ q, h[s] });
+                  part.above.push_back({ at(e), h[s] });
                 }
-                if (d > part.relative * h[s])
+                if (e.d > part.relative * h[s])
                 {
-                  part.relative = d / h[s];
-                  part.d = d;
+                  part.relative = e.d / h[s];
+                  part.d = e.d;
                   part.e = h[s];
-                  part.at = q;
+                  part.at = at(e);
                 }
               }
+            };
+            std::array<EdgePoint, 9> points;
+            points[0] = { 0.0, dv, -1 };
+            for (int k = 1; k < 8; ++k)
+            {
+              points[k] = { 0.125 * k, 0.0, -1 };
+              points[k].d = toCurvesWith(at(points[k]), part.heap);
+              part.mesh = std::max(part.mesh, points[k].d);
+              note(points[k]);
+            }
+            points[8] = { 1.0, toCurvesWith(b[s], part.heap), -1 };
+            // Between two neighbouring points the distance may peak above both, where two
+            // curve segments are equally near (a chord across a corner of the curves: lake005
+            // of random_lakes_countries.py 0 12, 0.53 local edges between points at 0.45 and
+            // 0.47): as on the curves' side below, where the distance's bound (1-Lipschitz
+            // along the edge) exceeds half the local edge, the midpoint is taken and both
+            // halves are looked at, in order, down to kPeakTolerance local edges; not past a
+            // miss, nor between two points above the bound beside narrow regions. (The
+            // largest distance, maxBoundaryDeviation, stays the points'.)
+            const double length = norm(b[s] - a[s]);
+            const double margin = 1e-12 * (norm(a[s]) + norm(b[s]) + length);
+            const auto peaks = [&](const auto& self, EdgePoint& u, EdgePoint& v, int depth)
+            {
+              const double span = (v.f - u.f) * length * (1.0 + 1e-9) + margin;
+              const double bound =
+                std::max({ u.d, v.d, 0.5 * (u.d + v.d + span) }) * (1.0 + 1e-9) + margin;
+              if (!(h[s] > 0.0) || depth >= kPeakDepth || span < kPeakTolerance * h[s] ||
+                bound <= kDeviationBound * h[s])
+              {
+                return;
+              }
+              const bool aboveU = u.d > kDeviationBound * h[s];
+              const bool aboveV = v.d > kDeviationBound * h[s];
+              if ((aboveU && aboveV) || (aboveU && !narrowOf(u)) || (aboveV && !narrowOf(v)))
+              {
+                return;
+              }
+              EdgePoint m{ 0.5 * (u.f + v.f), 0.0, -1 };
+              m.d = toCurvesWith(at(m), part.heap);
+              self(self, u, m, depth + 1);
+              note(m);
+              self(self, m, v, depth + 1);
+            };
+            for (int k = 0; k < 8; ++k)
+            {
+              peaks(peaks, points[k], points[k + 1], 0);
             }
           }
         },
@@ -2744,7 +2816,7 @@ std::string meshFigures(const MesherResult& r, double offCurve)
   std::snprintf(text,
     sizeof(text),
     "smallest angle %.2f degrees, area error %.2f%%, %zu regions cut, boundary deviation "
-    "%.2f local edges",
+    "%.4f local edges",
     r.summary.minAngle,
     100.0 * r.summary.maxRegionAreaError,
     r.brokenRegions.size(),
@@ -3047,7 +3119,7 @@ MesherResult triangulateToward(const RawPolylines& input,
     std::snprintf(text,
       sizeof(text),
       "LocalMaxLevel %d (smallest %.2f degrees%s, area error %.2f%%, %zu regions cut, boundary "
-      "deviation %.2f local edges, %zu triangles)",
+      "deviation %.4f local edges, %zu triangles)",
       r.summary.localMaxLevel,
       angleOf(r.summary),
       keeps ? " off the kept corners" : "",

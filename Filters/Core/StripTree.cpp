@@ -772,6 +772,29 @@ bool SegmentGrid::nearestDistance2(Vec2 p, double r, double& distance2) const
   return true;
 }
 
+template<typename Visit>
+bool SegmentGrid::forEachUnder(double xlo, double xhi, double ylo, double yhi, Visit&& visit) const
+{
+  const auto [i0, i1, j0, j1] = this->cellsUnder(xlo, xhi, ylo, yhi);
+  if (i0 > i1 || j0 > j1)
+  {
+    return true;
+  }
+  if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
+  {
+    return false;
+  }
+  for (int j = j0; j <= j1; ++j)
+  {
+    const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
+    for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
+    {
+      visit(this->Items[k]);
+    }
+  }
+  return true;
+}
+
 template<typename Counts>
 bool SegmentGrid::smallestUnder(double xlo,
   double xhi,
@@ -781,26 +804,20 @@ bool SegmentGrid::smallestUnder(double xlo,
   Counts&& counts,
   double& smallest) const
 {
-  const auto [i0, i1, j0, j1] = this->cellsUnder(xlo, xhi, ylo, yhi);
   double least = std::numeric_limits<double>::infinity();
-  if (i0 <= i1 && j0 <= j1)
-  {
-    if ((i1 - i0 + 1) * (j1 - j0 + 1) > 64)
-    {
-      return false;
-    }
-    for (int j = j0; j <= j1; ++j)
-    {
-      const std::size_t row = static_cast<std::size_t>(j) * static_cast<std::size_t>(this->Nx);
-      for (std::uint32_t k = this->Start[row + i0]; k < this->Start[row + i1 + 1]; ++k)
-      {
-        const int s = this->Items[k];
-        if (value[s] < least && counts(s))
+  if (!this->forEachUnder(xlo,
+        xhi,
+        ylo,
+        yhi,
+        [&](int s)
         {
-          least = value[s];
-        }
-      }
-    }
+          if (value[s] < least && counts(s))
+          {
+            least = value[s];
+          }
+        }))
+  {
+    return false;
   }
   smallest = least;
   return true;
@@ -842,6 +859,41 @@ bool SegmentGrid::smallestValueNear(Vec2 a,
     value,
     [&](int s) { return segmentSegmentDistance2(a, b, this->A[s], this->B[s]) <= reach * reach; },
     smallest);
+}
+
+bool SegmentGrid::firstCrossing(Vec2 p, Vec2 u, double from, double to, double& s) const
+{
+  if (this->Start.empty() || !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(u.x) ||
+    !std::isfinite(u.y) || !std::isfinite(from) || !std::isfinite(to) || !(from <= to))
+  {
+    return false;
+  }
+  const Vec2 q = p + to * u;
+  double first = std::numeric_limits<double>::infinity();
+  if (!this->forEachUnder(std::min(p.x, q.x),
+        std::max(p.x, q.x),
+        std::min(p.y, q.y),
+        std::max(p.y, q.y),
+        [&](int segment)
+        {
+          // p + along u = A + at (B - A), at in [0, 1].
+          const Vec2 e = this->B[segment] - this->A[segment], w = this->A[segment] - p;
+          const double den = cross(u, e);
+          if (den == 0.0)
+          {
+            return;
+          }
+          const double along = cross(w, e) / den, at = cross(w, u) / den;
+          if (at >= 0.0 && at <= 1.0 && along > from && along < to && along < first)
+          {
+            first = along;
+          }
+        }))
+  {
+    return false;
+  }
+  s = first;
+  return true;
 }
 
 bool SegmentGrid::noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const

@@ -119,6 +119,12 @@ public:
   /// relative 1e-6 of `depth` count as deeper). False when the cells cannot tell: a box of
   /// more than 64 cells, a NaN or infinite corner, a side of length zero or depth <= 0.
   bool noneInside(Vec2 a, Vec2 b, Vec2 c, double depth) const;
+  /// The first crossing of the ray p + s u (u of unit length) with a segment for s in
+  /// (from, to): the smallest such s at which the ray's line meets a segment not parallel to
+  /// it (exactly, up to rounding), +infinity for none. True with `s` set, or false (s
+  /// untouched) when the cells cannot tell: a box of more than 64 cells, a NaN or infinite
+  /// input, or from > to.
+  bool firstCrossing(Vec2 p, Vec2 u, double from, double to, double& s) const;
 
 private:
   bool scan(Vec2 p, double r, bool ties, NearestSegment& nearest) const;
@@ -133,6 +139,10 @@ private:
   };
   CellRange cellsUnder(double xlo, double xhi, double ylo, double yhi) const;
   int emptyCells(int i0, int i1, int j0, int j1) const;
+  // visit(s) for each segment s listed in the cells under the box [xlo, xhi] x [ylo, yhi] (a
+  // segment in several cells more than once): false, visiting none, for more than 64 cells.
+  template<typename Visit>
+  bool forEachUnder(double xlo, double xhi, double ylo, double yhi, Visit&& visit) const;
   // The smallest value[s] over the segments s listed in the cells under the box that
   // counts(s) accepts (+infinity for none): false for a box of more than 64 cells.
   template<typename Counts>

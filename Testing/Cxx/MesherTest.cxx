@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <ostream>
 #include <string>
@@ -468,9 +469,10 @@ namespace
 // distance from points every eighth of a mesh boundary edge to the model's curves, and from
 // points every half finest edge along the curves to the mesh boundary, each over the local
 // edge there: the mean edge length of the triangles beside the mesh boundary edge the sample
-// lies on, or nearest it (the mesher's definition); the points beside a region narrower than
-// the finest edge are left out (the exemption; for a mesh point, its nearest curve
-// point beside one).
+// lies on, or nearest it (the mesher's definition), and between those samples wherever the
+// distance's Lipschitz bound leaves room for more (within 0.005 local edges); the points above
+// half their local edge beside a region narrower than the finest edge are left out (the
+// issue's exemption; for a mesh point, its nearest curve point beside one).
 double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::MesherResult& r)
 {
   const double finest = r.summary.finestEdgeLength;
@@ -549,36 +551,103 @@ double boundaryDeviationOverLocalEdge(const strata::Model& model, const strata::
     }
     return false;
   };
+  // A point of the search: its distance to the other side, and whether it is exempt (above
+  // half its local edge, beside a region narrower than the finest edge).
+  struct Point
+  {
+    Vec2 x;
+    double d;
+    bool exempt;
+  };
   double worst = 0.0;
+  const auto count = [&](const Point& p, double ratio)
+  {
+    worst = p.exempt ? worst : std::max(worst, ratio);
+    return p;
+  };
+  // Mesh -> curves: a point of boundary edge s.
+  const auto meshPoint = [&](Vec2 x, std::size_t s)
+  {
+    const strata::NearestSegment nearest = modelTree.nearest(x, scratch);
+    const double ratio = std::sqrt(nearest.distance2) / local[s];
+    const auto m = static_cast<std::size_t>(nearest.segment);
+    // (Exempt when its nearest curve point is beside a region narrower than the finest edge.)
+    return count({ x,
+                   std::sqrt(nearest.distance2),
+                   ratio > 0.5 && narrow(ma[m] + nearest.t * (mb[m] - ma[m]), m) },
+      ratio);
+  };
+  // Curves -> mesh: a point of curve segment s.
+  const auto curvePoint = [&](Vec2 x, std::size_t s)
+  {
+    const strata::NearestSegment nearest = meshTree.nearest(x, scratch);
+    const double ratio = std::sqrt(nearest.distance2) / local[nearest.segment];
+    return count({ x, std::sqrt(nearest.distance2), ratio > 0.5 && narrow(x, s) }, ratio);
+  };
+  // The shortest local edge of the mesh boundary edges within r of the curve stretch ab.
+  const strata::SegmentGrid meshCells(ba, bb, finest, std::size_t(1) << 20);
+  const auto shortestNear = [&](Vec2 a, Vec2 b, double r)
+  {
+    double shortest = std::numeric_limits<double>::infinity();
+    if (!meshCells.smallestValueNear(a, b, r, local, shortest))
+    {
+      for (std::size_t e = 0; e < ba.size(); ++e)
+      {
+        if (strata::segmentSegmentDistance2(a, b, ba[e], bb[e]) <= r * r)
+        {
+          shortest = std::min(shortest, local[e]);
+        }
+      }
+    }
+    return shortest;
+  };
+  // Between two neighbouring points u and v (the mesher's search, Method, step 9): no point
+  // between them is farther than max(du, dv, (du + dv + |uv|) / 2) from the other side, over
+  // at least the shortest local edge within that of the gap; when that exceeds the largest
+  // ratio so far by more than kTolerance and an end is not exempt, the gap is halved.
+  constexpr double kTolerance = 0.005;
+  const auto between = [&](const auto& self,
+                         const Point& u,
+                         const Point& v,
+                         int depth,
+                         auto&& shortestLocal,
+                         auto&& evaluate) -> void
+  {
+    const double gap = strata::norm(v.x - u.x);
+    const double bound = std::max({ u.d, v.d, 0.5 * (u.d + v.d + gap) });
+    const double shortest = shortestLocal(u.x, v.x, bound);
+    if (depth >= 30 || (u.exempt && v.exempt) || !(bound > (worst + kTolerance) * shortest) ||
+      !(gap > kTolerance * shortest))
+    {
+      return;
+    }
+    const Point m = evaluate(0.5 * (u.x + v.x));
+    self(self, u, m, depth + 1, shortestLocal, evaluate);
+    self(self, m, v, depth + 1, shortestLocal, evaluate);
+  };
   for (std::size_t s = 0; s < ba.size(); ++s)
   {
-    for (int k = 0; k <= 8; ++k)
+    const auto evaluate = [&](Vec2 x) { return meshPoint(x, s); };
+    const auto shortestLocal = [&](Vec2, Vec2, double) { return local[s]; };
+    Point u = evaluate(ba[s]);
+    for (int k = 1; k <= 8; ++k)
     {
-      const Vec2 x = ba[s] + (k / 8.0) * (bb[s] - ba[s]);
-      const strata::NearestSegment nearest = modelTree.nearest(x, scratch);
-      const double ratio = std::sqrt(nearest.distance2) / local[s];
-      const auto m = static_cast<std::size_t>(nearest.segment);
-      if (ratio > std::max(worst, 0.5) && narrow(ma[m] + nearest.t * (mb[m] - ma[m]), m))
-      {
-        continue; // its nearest curve point is beside a region narrower than the finest edge
-      }
-      worst = std::max(worst, ratio);
+      const Point v = evaluate(ba[s] + (k / 8.0) * (bb[s] - ba[s]));
+      between(between, u, v, 0, shortestLocal, evaluate);
+      u = v;
     }
   }
   for (std::size_t s = 0; s < ma.size(); ++s)
   {
     const int n =
       std::max(1, static_cast<int>(std::ceil(strata::norm(mb[s] - ma[s]) / (0.5 * finest))));
-    for (int k = 0; k <= n; ++k)
+    const auto evaluate = [&](Vec2 x) { return curvePoint(x, s); };
+    Point u = evaluate(ma[s]);
+    for (int k = 1; k <= n; ++k)
     {
-      const Vec2 x = ma[s] + (static_cast<double>(k) / n) * (mb[s] - ma[s]);
-      const strata::NearestSegment nearest = meshTree.nearest(x, scratch);
-      const double ratio = std::sqrt(nearest.distance2) / local[nearest.segment];
-      if (ratio > std::max(worst, 0.5) && narrow(x, s))
-      {
-        continue; // inside a region narrower than the finest edge
-      }
-      worst = std::max(worst, ratio);
+      const Point v = evaluate(ma[s] + (static_cast<double>(k) / n) * (mb[s] - ma[s]));
+      between(between, u, v, 0, shortestNear, evaluate);
+      u = v;
     }
   }
   return worst;
@@ -2165,6 +2234,28 @@ TEST(MesherTest, AVertexPushedPastACurveBesideOneOnItIsMergedIntoIt)
   expectEveryTriangleAtThirtyWithinTheBounds(byDefault);
 }
 
+namespace
+{
+// A boundary miss the mesher once passed by, on Data/`file`: made with `once` (ThinLayerRetry
+// off), the independent measure and the mesher's own both find the boundary more than `above`
+// local edges off, with the miss's warning; with the default settings every triangle is at 30
+// degrees within the bounds, and the boundary within half a local edge by the independent
+// measure.
+void expectTheMissSeenAndMetByDefault(const char* file, strata::MesherParams once, double above)
+{
+  const auto [raw, byDefault] = madeByDefault(file);
+  const strata::Model model = strata::buildModel(raw);
+  once.thinLayerRetry = false;
+  const strata::MesherResult o = strata::triangulate(raw, once);
+  ASSERT_GT(boundaryDeviationOverLocalEdge(model, o), above);
+  EXPECT_GT(o.summary.maxRelativeDeviation, above);
+  EXPECT_NE(allWarnings(o).find("more than half the local edge"), std::string::npos);
+
+  expectEveryTriangleAtThirtyWithinTheBounds(byDefault);
+  EXPECT_LE(boundaryDeviationOverLocalEdge(model, byDefault), 0.5);
+}
+} // namespace
+
 // A peak of the boundary's deviation between two of the mesher's curve samples
 // (kink_peak_section.vtp, f706 of random_faulted_sections.py 700 712). At LocalMaxLevel 16 with
 // ThinLayerRefinement (the mesh kept by default until 2026-12-06) the distance from a layer's
@@ -2176,19 +2267,34 @@ TEST(MesherTest, AVertexPushedPastACurveBesideOneOnItIsMergedIntoIt)
 // measure.
 TEST(MesherTest, ABoundaryDeviationPeakBetweenTwoSamplesIsSeenAndTheMeshMadeAgain)
 {
-  const auto [raw, byDefault] = madeByDefault("kink_peak_section.vtp");
-  const strata::Model model = strata::buildModel(raw);
   strata::MesherParams once;
   once.grid.localMaxLevel = 16;
   once.grid.thinLayerRefinement = true;
-  once.thinLayerRetry = false;
-  const strata::MesherResult o = strata::triangulate(raw, once);
-  ASSERT_GT(boundaryDeviationOverLocalEdge(model, o), 0.5);
-  EXPECT_GT(o.summary.maxRelativeDeviation, 0.5);
-  EXPECT_NE(allWarnings(o).find("more than half the local edge"), std::string::npos);
+  expectTheMissSeenAndMetByDefault("kink_peak_section.vtp", once, 0.5);
+}
 
-  expectEveryTriangleAtThirtyWithinTheBounds(byDefault);
-  EXPECT_LE(boundaryDeviationOverLocalEdge(model, byDefault), 0.5);
+// A mesh boundary edge across a corner of the curves (corner_chord_lake.vtp, lake005 of
+// random_lakes_countries.py 0 12): the first mesh made with the default settings has a shore
+// edge 1.77 long whose point at 0.44 of it lies 0.53 local edges off the shore's corner, where
+// the mesher's samples an eighth of the edge apart read 0.45 and 0.47 (the table's too), so
+// that mesh was kept. The mesher looks between the samples of its boundary edges too: that
+// mesh is a miss, with a warning, and the default settings make a mesh within the bound by
+// either measure.
+TEST(MesherTest, ABoundaryEdgeAcrossACornerOfTheCurvesIsSeenBetweenItsSamples)
+{
+  expectTheMissSeenAndMetByDefault("corner_chord_lake.vtp", strata::MesherParams(), 0.52);
+}
+
+// A curve point just beyond a region narrower than the finest edge (narrow_edge_section.vtp,
+// f308 of random_faulted_sections.py 300 312): along its normal the other curve lies 1.00002
+// finest edges away, so it is not left out, and the first mesh made with the default settings
+// lies 0.5023 local edges off there. The mesher's ray, by sphere tracing, counted curves up
+// to about 1e-3 finest edges farther, left the point out and kept that mesh; it now takes the
+// ray's first crossing exactly: that mesh is a miss, with a warning, and the default settings
+// make a mesh within the bound by either measure.
+TEST(MesherTest, ACurvePointJustBeyondANarrowRegionIsNotLeftOut)
+{
+  expectTheMissSeenAndMetByDefault("narrow_edge_section.vtp", strata::MesherParams(), 0.5);
 }
 
 // Two free vertices closer than the refinement's floor inside a country

@@ -756,6 +756,80 @@ TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reac
   EXPECT_EQ(least, -1.0);
 }
 
+TEST(StripTreeTest, segment_grid_first_crossing_of_a_ray_is_the_nearest_segment_it_crosses)
+{
+  // firstCrossing(p, u, from, to) is the smallest s in (from, to) at which p + s u meets a
+  // segment: rays of a few lengths from points near the shore, against every segment's
+  // crossing found another way (the signed distance to its line, linear along the ray), up to
+  // rounding (1e-9 of the model's size) at the segments' ends and the ray's.
+  const Segments s = readSegments("lake_superior.vtp");
+  const double size = std::max(s.box.width(), s.box.height());
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double cell = size / 256.0;
+  const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
+  std::size_t told = 0, queries = 0, wrong = 0, some = 0;
+  std::uniform_int_distribution<std::size_t> which(0, s.a.size() - 1);
+  const double inf = std::numeric_limits<double>::infinity(), slack = 1e-9 * size;
+  for (int n = 0; n < 300; ++n)
+  {
+    const std::size_t i = which(rng);
+    // (From the shore itself for half the rays, as the mesher casts them.)
+    const Vec2 p = s.a[i] + u(rng) * (s.b[i] - s.a[i]) +
+      (n % 2 == 0 ? 0.0 : 2.0 * cell) * Vec2{ 2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0 };
+    const double angle = 6.283185307179586 * u(rng);
+    const Vec2 dir{ std::cos(angle), std::sin(angle) };
+    for (const double length : { 0.5, 3.0 })
+    {
+      const double from = 1e-7 * length * cell, to = length * cell;
+      double first = -1.0;
+      ++queries;
+      if (!grid.firstCrossing(p, dir, from, to, first))
+      {
+        wrong += first != -1.0; // untouched
+        continue;
+      }
+      ++told;
+      // The first crossing within (from, to) by a margin, and with the margin.
+      double inner = inf, outer = inf;
+      for (std::size_t k = 0; k < s.a.size(); ++k)
+      {
+        const Vec2 e = s.b[k] - s.a[k];
+        const double g0 = strata::cross(e, p - s.a[k]), g1 = strata::cross(e, p + dir - s.a[k]);
+        if (g0 == g1)
+        {
+          continue; // parallel
+        }
+        const double at = g0 / (g0 - g1);
+        const Vec2 x = p + at * dir;
+        const double along = strata::dot(x - s.a[k], e) / strata::dot(e, e);
+        const double l = strata::norm(e);
+        if (along * l >= slack && (1.0 - along) * l >= slack && at > from + slack &&
+          at < to - slack)
+        {
+          inner = std::min(inner, at);
+        }
+        if (along * l >= -slack && (1.0 - along) * l >= -slack && at > from - slack &&
+          at < to + slack)
+        {
+          outer = std::min(outer, at);
+        }
+      }
+      wrong += !(first >= outer - slack && first <= inner + slack);
+      some += first < inf;
+    }
+  }
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_GT(told, queries / 2);
+  EXPECT_GT(some, queries / 10);
+  double first = -1.0;
+  EXPECT_FALSE(grid.firstCrossing({ 0.0, 0.0 }, { 1.0, 0.0 }, 0.0, 100.0 * size, first));
+  EXPECT_FALSE(grid.firstCrossing(
+    { std::numeric_limits<double>::quiet_NaN(), 0.0 }, { 1.0, 0.0 }, 0.0, 1.0, first));
+  EXPECT_FALSE(grid.firstCrossing({ 0.0, 0.0 }, { 1.0, 0.0 }, 2.0, 1.0, first));
+  EXPECT_EQ(first, -1.0);
+}
+
 TEST(StripTreeTest, segment_grid_smallest_value_near_a_segment_is_that_of_the_segments_within_reach)
 {
   // smallestValueNear(a, b, r) is exactly the smallest value of the segments within r of the
