@@ -182,8 +182,10 @@ struct MesherResult
     double maxBoundaryDeviation = 0.0;
     /// The largest of the deviations above, each divided by the local edge there (the mean
     /// edge length of the triangles beside the approximated boundary's nearest edge), the
-    /// input curves sampled every quarter finest edge (and, where a deviation above 0.5 may
-    /// lie between two samples, between them down to 0.005 local edges), leaving out the
+    /// input curves sampled every quarter finest edge and the approximated boundary every
+    /// eighth of an edge (and, where a deviation above 0.5 may lie between two samples,
+    /// between them down to 0.001 local edges: below 0.5 the figure is the samples' largest,
+    /// which a peak between them may exceed), leaving out the
     /// curve points beside a region narrower than finestEdgeLength (issue 5's exemption:
     /// another curve within it along the curve's normal, or the disc of that diameter
     /// touching the point, shrunk by 10%, cut by a curve) and the points of the approximated
