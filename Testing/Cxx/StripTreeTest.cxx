@@ -704,6 +704,23 @@ std::vector<double> randomValues(std::size_t n, std::mt19937_64& rng)
   }
   return value;
 }
+
+// A point of a random segment of s, moved by up to `reach` along each axis.
+Vec2 pointNearSegments(const Segments& s, double reach, std::mt19937_64& rng)
+{
+  std::uniform_int_distribution<std::size_t> which(0, s.a.size() - 1);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const std::size_t i = which(rng);
+  const double t = u(rng), dx = 2.0 * u(rng) - 1.0, dy = 2.0 * u(rng) - 1.0;
+  return s.a[i] + t * (s.b[i] - s.a[i]) + reach * Vec2{ dx, dy };
+}
+
+// A unit vector in a random direction.
+Vec2 randomDirection(std::mt19937_64& rng)
+{
+  const double angle = 6.283185307179586 * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  return { std::cos(angle), std::sin(angle) };
+}
 } // namespace
 
 TEST(StripTreeTest, segment_grid_smallest_value_covers_every_segment_within_reach)
@@ -765,20 +782,15 @@ TEST(StripTreeTest, segment_grid_first_crossing_of_a_ray_is_the_nearest_segment_
   const Segments s = readSegments("lake_superior.vtp");
   const double size = std::max(s.box.width(), s.box.height());
   std::mt19937_64 rng(31);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
   const double cell = size / 256.0;
   const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
   std::size_t told = 0, queries = 0, wrong = 0, some = 0;
-  std::uniform_int_distribution<std::size_t> which(0, s.a.size() - 1);
   const double inf = std::numeric_limits<double>::infinity(), slack = 1e-9 * size;
   for (int n = 0; n < 300; ++n)
   {
-    const std::size_t i = which(rng);
     // (From the shore itself for half the rays, as the mesher casts them.)
-    const Vec2 p = s.a[i] + u(rng) * (s.b[i] - s.a[i]) +
-      (n % 2 == 0 ? 0.0 : 2.0 * cell) * Vec2{ 2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0 };
-    const double angle = 6.283185307179586 * u(rng);
-    const Vec2 dir{ std::cos(angle), std::sin(angle) };
+    const Vec2 p = pointNearSegments(s, n % 2 == 0 ? 0.0 : 2.0 * cell, rng);
+    const Vec2 dir = randomDirection(rng);
     for (const double length : { 0.5, 3.0 })
     {
       const double from = 1e-7 * length * cell, to = length * cell;
@@ -839,7 +851,6 @@ TEST(StripTreeTest, segment_grid_smallest_value_near_a_segment_is_that_of_the_se
   const Segments s = readSegments("lake_superior.vtp");
   const double size = std::max(s.box.width(), s.box.height());
   std::mt19937_64 rng(29);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
   const std::vector<double> value = randomValues(s.a.size(), rng);
   const auto distance = [](Vec2 a, Vec2 b, Vec2 c, Vec2 d)
   {
@@ -864,16 +875,12 @@ TEST(StripTreeTest, segment_grid_smallest_value_near_a_segment_is_that_of_the_se
   const strata::SegmentGrid grid(s.a, s.b, cell, std::size_t(1) << 22);
   std::size_t told = 0, queries = 0, wrong = 0, some = 0;
   // (Query segments from points within two cells of a random segment of the shore.)
-  std::uniform_int_distribution<std::size_t> which(0, s.a.size() - 1);
   for (int n = 0; n < 150; ++n)
   {
-    const std::size_t i = which(rng);
-    const Vec2 p = s.a[i] + u(rng) * (s.b[i] - s.a[i]) +
-      (2.0 * cell) * Vec2{ 2.0 * u(rng) - 1.0, 2.0 * u(rng) - 1.0 };
+    const Vec2 p = pointNearSegments(s, 2.0 * cell, rng);
     for (const double length : { 0.0, 0.5, 3.0 })
     {
-      const double angle = 6.283185307179586 * u(rng);
-      const Vec2 q = p + length * cell * Vec2{ std::cos(angle), std::sin(angle) };
+      const Vec2 q = p + length * cell * randomDirection(rng);
       for (const double f : { 0.0, 0.3, 1.0 })
       {
         const double r = f * cell;
