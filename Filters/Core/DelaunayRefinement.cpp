@@ -303,7 +303,6 @@
 #include <functional>
 #include <iterator>
 #include <map>
-#include <numeric>
 #include <optional>
 #include <queue>
 #include <set>
@@ -1679,13 +1678,16 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
   // The centroids' curve queries (geometry only: the rounds change regions, not positions)
   // are asked all at once first when the caller can answer them so.
   LargeVector<int> near = this->centroidRegionsNear(before);
-  LargeVector<int> todo(queue.begin(), queue.end()), next;
-  LargeVector<char> far(this->M.triangles.size(), 0);
-  for (int round = 0; round < 4 && !todo.empty(); ++round)
+  const std::size_t nt = this->M.triangles.size();
+  LargeVector<int> todo, next; // (the first round: every triangle, in order)
+  LargeVector<char> far(nt, 0);
+  for (int round = 0; round < 4 && (round == 0 ? nt > 0 : !todo.empty()); ++round)
   {
     next.clear();
-    for (int t : todo)
+    const std::size_t count = round == 0 ? nt : todo.size();
+    for (std::size_t i = 0; i < count; ++i)
     {
+      const int t = round == 0 ? static_cast<int>(i) : todo[i];
       this->poll();
       if (this->retag(t, &far[t], near.empty() ? nullptr : &near[t]))
       {
@@ -1710,7 +1712,6 @@ std::size_t Refiner::recoverCurves(const RecoveryMemo* before, RecoveryMemo* aft
   LargeVector<Vec2> probeAt;
   if (this->P.curvePoints)
   {
-    const std::size_t nt = this->M.triangles.size();
     for (std::size_t t = 0; t < nt; ++t)
     {
       if (!far[t] && probed(static_cast<int>(t), this->M.triangles[t]))
@@ -1996,7 +1997,22 @@ std::size_t Refiner::followCurves()
   {
     return 0;
   }
-  std::vector<double> area; // mesh area per region
+  // The region boundary edges of t, each once (from its region side), to todo.
+  std::vector<std::pair<int, int>> todo;
+  const auto edgesOf = [&](int t)
+  {
+    for (int k = 0; k < 3; ++k)
+    {
+      const int u = this->Nbr[t][k];
+      if (this->M.region[t] >= 0 && this->Live[t] && this->constrained(t, k) &&
+        (u < 0 || this->M.region[u] < 0 || (this->Live[u] && t < u)))
+      {
+        todo.emplace_back(t, k);
+      }
+    }
+  };
+  // Those of every triangle (in order: sorted), and the mesh area per region.
+  std::vector<double> area;
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
     const int r = this->M.region[t];
@@ -2006,29 +2022,8 @@ std::size_t Refiner::followCurves()
       const auto& tri = this->M.triangles[t];
       area[r] += 0.5 * orient2d(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
     }
+    edgesOf(static_cast<int>(t));
   }
-  // The region boundary edges of the given triangles, each once (from its region side).
-  std::vector<std::pair<int, int>> todo;
-  const auto collect = [&](const auto& triangles)
-  {
-    todo.clear();
-    for (int t : triangles)
-    {
-      for (int k = 0; k < 3; ++k)
-      {
-        const int u = this->Nbr[t][k];
-        if (this->M.region[t] >= 0 && this->Live[t] && this->constrained(t, k) &&
-          (u < 0 || this->M.region[u] < 0 || (this->Live[u] && t < u)))
-        {
-          todo.emplace_back(t, k);
-        }
-      }
-    }
-    sortUnique(todo);
-  };
-  LargeVector<int> all(this->M.triangles.size());
-  std::iota(all.begin(), all.end(), 0);
-  collect(all);
   // A region whose boundary edges cut off more than curveAreaBudget of its area in all (a
   // thin, bending layer: each edge under the per-edge bound, their sum not) also has its edges
   // that cut off more than an even share of that budget split: limit[r], else no limit.
@@ -2145,7 +2140,12 @@ std::size_t Refiner::followCurves()
       }
     }
     sortUnique(touched);
-    collect(touched);
+    todo.clear();
+    for (const int t : touched)
+    {
+      edgesOf(t);
+    }
+    sortUnique(todo);
   }
   return splits;
 }
@@ -2477,9 +2477,11 @@ std::size_t Refiner::dissolveCorners()
     }
   };
   // The triangles with a sharp region corner (increasing), and whether a live region triangle
-  // is thinner than dissolveThinPieces() looks for (a thin piece has one): one sweep, on two
+  // with a constrained edge is thinner than dissolveThinPieces() looks for: one sweep, on two
   // threads, made again when the mesh changed. Only such triangles can have a tip cut or be
-  // given away (in the first sweep below, until a retag changes a neighbour's corners).
+  // given away (in the first sweep below, until a retag changes a neighbour's corners). A
+  // thin piece has such a triangle (a piece is bounded by constrained edges), so with none
+  // hasThinPiece() is false; the others' geometry is not read (at 1 M 0.03 s a sweep).
   std::vector<int> sharp;
   bool anyThin = false;
   const auto findSharp = [&]()
@@ -2498,7 +2500,8 @@ std::size_t Refiner::dissolveCorners()
         {
           parts[part].push_back(t);
         }
-        if (!thinPart[part])
+        if (!thinPart[part] &&
+          (this->constrained(t, 0) || this->constrained(t, 1) || this->constrained(t, 2)))
         {
           thinPart[part] = this->thin(t);
         }
