@@ -499,6 +499,8 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   const RefinementParams& P,
   const std::vector<Zone>& avoid,
   const std::vector<Zone>& within = {});
+double smallestCosine(Vec2 a, Vec2 b, Vec2 c);
+double shapeCosine(Vec2 a, Vec2 b, Vec2 c);
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest);
 
 // What a refiner that is done hands the next refiner of its mesh (Refiner::takeHandover(),
@@ -1291,18 +1293,9 @@ void Refiner::insertIn(int t, Vec2 w, std::vector<int>& created)
 
 // Cosine of the smallest angle of tri: the angle opposite the shortest edge (law of cosines
 // on the squared edge lengths).
-// The cosine of the angle opposite the shortest side s (squared lengths: s <= p, q), by the
-// law of cosines. The shortest and the other two are picked with min and max, not branches:
-// which side is shortest is a coin toss from one triangle to the next, and the sweeps of
-// every triangle (the bad ones, the smallest angle) took about half as long again so. (The
-// sum and product of p and q do not depend on their order: the same value either way.)
 double Refiner::smallestAngleCosine(const std::array<int, 3>& tri) const
 {
-  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-  const double e0 = norm2(c - b), e1 = norm2(a - c), e2 = norm2(b - a);
-  const double lower = std::min(e0, e1);
-  const double s = std::min(lower, e2), p = std::max(e0, e1), q = std::max(lower, e2);
-  return (p + q - s) / (2.0 * std::sqrt(p * q));
+  return smallestCosine(this->X(tri[0]), this->X(tri[1]), this->X(tri[2]));
 }
 
 // Ends the transaction: keeps it when the smallest angle of the triangles it made is not below
@@ -4423,26 +4416,33 @@ namespace
 // smallest angle is the one to beat), then bold runs, each with cautious zones around the
 // triangles where the previous bold run ended below the best so far; the run with the largest
 // smallest angle (then the fewest bad triangles) is kept, then smoothed.
-// Smallest-angle cosine of abc (2 when abc is not counter-clockwise) and, in `largest`, the
-// cosine of its largest angle.
+// The cosine of abc's smallest angle, opposite its shortest side s (squared lengths: s <= p,
+// q), by the law of cosines. The shortest and the other two are picked with min and max, not
+// branches: which side is shortest is a coin toss from one triangle to the next, and the
+// sweeps of every triangle (the bad ones, the smallest angle) took about half as long again
+// so. (The sum and product of p and q do not depend on their order: the same value either
+// way.)
+double smallestCosine(Vec2 a, Vec2 b, Vec2 c)
+{
+  const double e0 = norm2(c - b), e1 = norm2(a - c), e2 = norm2(b - a);
+  const double lower = std::min(e0, e1);
+  const double s = std::min(lower, e2), p = std::max(e0, e1), q = std::max(lower, e2);
+  return (p + q - s) / (2.0 * std::sqrt(p * q));
+}
+
+// Smallest-angle cosine of abc, or 2 when abc is not counter-clockwise.
+double shapeCosine(Vec2 a, Vec2 b, Vec2 c)
+{
+  return orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a)) ? smallestCosine(a, b, c)
+                                                                          : 2.0;
+}
+
+// The same and, in `largest`, the cosine of its largest angle (-1 when not counter-clockwise).
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest)
 {
-  if (!(orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a))))
-  {
-    largest = -1.0;
-    return 2.0;
-  }
-  double s = norm2(c - b), p = norm2(a - c), q = norm2(b - a);
-  if (p < s)
-  {
-    std::swap(s, p);
-  }
-  if (q < s)
-  {
-    std::swap(s, q);
-  }
-  largest = largestAngleCosine(a, b, c);
-  return (p + q - s) / (2.0 * std::sqrt(p * q));
+  const bool turns = orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a));
+  largest = turns ? largestAngleCosine(a, b, c) : -1.0;
+  return turns ? smallestCosine(a, b, c) : 2.0;
 }
 
 } // namespace
@@ -4491,8 +4491,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
     {
       return false;
     }
-    double largest = 0.0;
-    const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]), largest);
+    const double cosine = shapeCosine(X(tri[0]), X(tri[1]), X(tri[2]));
     if (!(cosine > cosBad) || cosine > 1.0)
     {
       return false;
