@@ -2306,12 +2306,17 @@ LargeVector<int> Refiner::centroidRegionsNear(const RecoveryMemo* before)
 bool Refiner::retag(int t, char* far, const int* near)
 {
   const auto& tri = this->M.triangles[t];
-  const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-  const Vec2 g = (1.0 / 3.0) * (a + b + c);
-  const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-  if (!this->Live[t] ||
-    (near ? *near == kNoCurveNear
-          : this->P.curveDistance && this->P.curveDistance(g, longest) >= longest))
+  // (The centroid and the longest edge only for the queries: with `near`, at 1 M every
+  // triangle of the first round, none is asked.)
+  const auto centroid = [&]
+  { return (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])); };
+  const auto farFromCurves = [&]
+  {
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
+    return this->P.curveDistance && this->P.curveDistance(centroid(), longest) >= longest;
+  };
+  if (!this->Live[t] || (near ? *near == kNoCurveNear : farFromCurves()))
   {
     if (far && this->Live[t])
     {
@@ -2319,7 +2324,7 @@ bool Refiner::retag(int t, char* far, const int* near)
     }
     return false; // no curve runs near it: its region is its neighbours'
   }
-  const int r = near ? *near : this->P.regionAt(g);
+  const int r = near ? *near : this->P.regionAt(centroid());
   if (r == this->M.region[t])
   {
     return false;
