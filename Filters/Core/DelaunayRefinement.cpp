@@ -4417,10 +4417,6 @@ void validate(const RefinementParams& p)
 
 namespace
 {
-// One pass of refineDelaunay() (2 to 5 at the top of this file): the cautious run first (its
-// smallest angle is the one to beat), then bold runs, each with cautious zones around the
-// triangles where the previous bold run ended below the best so far; the run with the largest
-// smallest angle (then the fewest bad triangles) is kept, then smoothed.
 // The cosine of abc's smallest angle, opposite its shortest side s (squared lengths: s <= p,
 // q), by the law of cosines. The shortest and the other two are picked with min and max, not
 // branches: which side is shortest is a coin toss from one triangle to the next, and the
@@ -4935,6 +4931,10 @@ KeptRun keptRun(const RegionMesh& mesh,
   return kept;
 }
 
+// One pass of refineDelaunay() (2 to 5 at the top of this file): the cautious run first (its
+// smallest angle is the one to beat), then bold runs, each with cautious zones around the
+// triangles where the previous bold run ended below the best so far; the run with the largest
+// smallest angle (then the fewest bad triangles) is kept, then smoothed.
 RefinementResult refinePass(RegionMesh& mesh,
   const BoundarySplitter& splitter,
   const RefinementParams& params,
