@@ -2928,7 +2928,8 @@ std::size_t Refiner::smoothBad()
   // The bad triangles: found in a sweep first, then among those and the triangles a round
   // changed (moved corners, flips), whose flips only are looked for (flipToDelaunayNear()).
   std::vector<int> bad = this->badTriangles(), changed, flipped;
-  for (int round = 0; round < kSmoothingRounds; ++round)
+  // (With none, nothing moves: no stars are made, at 1 M a sweep of 0.007-0.009 s.)
+  for (int round = 0; round < kSmoothingRounds && !bad.empty(); ++round)
   {
     std::vector<int> todo;
     changed.clear();
