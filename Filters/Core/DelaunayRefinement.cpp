@@ -3510,7 +3510,7 @@ int Refiner::holding(int v, int t) const
   const auto holds = [&](int x)
   {
     const auto& tri = this->M.triangles[x];
-    return tri[0] == v || tri[1] == v || tri[2] == v;
+    return hasVertex(tri, v);
   };
   if (t >= 0 && holds(t))
   {
@@ -3590,7 +3590,7 @@ int Refiner::newVertex(int s, int edge, Vec2 w, bool orInside, int& t)
   for (int c : created)
   {
     const auto& ct = this->M.triangles[c];
-    t = (ct[0] == wi || ct[1] == wi || ct[2] == wi) ? c : t;
+    t = hasVertex(ct, wi) ? c : t;
   }
   return wi;
 }
@@ -4055,7 +4055,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
   for (const auto& [t, before] : retagged)
   {
     const auto& tri = this->M.triangles[t];
-    apex = apex || tri[0] == apexV || tri[1] == apexV || tri[2] == apexV;
+    apex = apex || hasVertex(tri, apexV);
     for (int k = 0; k < 3 && ok; ++k)
     {
       const int n = this->Nbr[t][k];
@@ -4073,7 +4073,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
   {
     const std::size_t t = at(i);
     const auto& tri = this->M.triangles[t];
-    apex = this->M.region[t] == c.region && (tri[0] == apexV || tri[1] == apexV || tri[2] == apexV);
+    apex = this->M.region[t] == c.region && hasVertex(tri, apexV);
   }
   // ... and both sides are region boundaries (a corner the mesh does not have, e.g. beside a
   // spit of land thinner than the triangles, is not made).
@@ -4634,7 +4634,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
             oldCosine = std::max(oldCosine, c);
             oldLargest = std::min(oldLargest, l);
           }
-          if ((o[0] == u || o[1] == u || o[2] == u) && (o[0] == v || o[1] == v || o[2] == v))
+          if (hasVertex(o, u) && hasVertex(o, v))
           {
             shared.push_back(s);
           }
@@ -4739,7 +4739,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
             newCosine = std::max(newCosine, c);
             newLargest = std::min(newLargest, l);
           }
-          if (o[0] == u || o[1] == u || o[2] == u)
+          if (hasVertex(o, u))
           {
             tris.push_back(o);
             regs.push_back(m.region[s]);
@@ -4786,7 +4786,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
       for (int s : star(bestV))
       {
         auto& o = m.triangles[s];
-        if ((o[0] == bestU || o[1] == bestU || o[2] == bestU))
+        if (hasVertex(o, bestU))
         {
           dead[s] = 1;
           --count[m.region[s]];

@@ -3,6 +3,7 @@
 #define StrataMeshCore_Geometry_h
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace strata
@@ -25,6 +26,12 @@ inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 inline double cross(Vec2 a, Vec2 b) { return a.x * b.y - a.y * b.x; }
 inline double norm2(Vec2 a) { return dot(a, a); }
 inline double norm(Vec2 a) { return std::sqrt(dot(a, a)); }
+
+/// Whether the triangle (its three vertex ids) has vertex v.
+inline bool hasVertex(const std::array<int, 3>& tri, int v)
+{
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
 
 /// Twice the signed area of triangle abc: > 0 counter-clockwise, < 0 clockwise, 0 collinear.
 /// Computed relative to a so that coordinates far from the origin lose no precision needlessly.

@@ -365,8 +365,6 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   // the others of the merged vertex's star have the kept one instead. The kept vertex's star
   // (star[]) then misses those: it is left as it is (stale).
   const auto gone = [&](int t) { return mesh.triangles[t][0] == mesh.triangles[t][1]; };
-  const auto has = [](const std::array<int, 3>& tri, int w)
-  { return tri[0] == w || tri[1] == w || tri[2] == w; };
   LargeVector<std::uint8_t> stale(merge ? np : 0, 0);
   bool merged = false;
   // Whether v's star, v at `to` (and, merging into u, the triangles with u left out), stays
@@ -376,7 +374,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     for (int s = start[v]; s < start[v + 1]; ++s)
     {
       const std::array<int, 3>& tri = mesh.triangles[star[s]];
-      if (gone(star[s]) || has(tri, u))
+      if (gone(star[s]) || hasVertex(tri, u))
       {
         continue;
       }
@@ -433,7 +431,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
       for (int s = start[v]; s < start[v + 1]; ++s)
       {
         const std::array<int, 3>& tri = mesh.triangles[star[s]];
-        if (!gone(star[s]) && has(tri, u))
+        if (!gone(star[s]) && hasVertex(tri, u))
         {
           third.push_back(tri[0] + tri[1] + tri[2] - u - v);
         }
@@ -450,7 +448,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
       for (int s = start[v]; s < start[v + 1]; ++s)
       {
         std::array<int, 3>& tri = mesh.triangles[star[s]];
-        const bool beside = has(tri, u);
+        const bool beside = hasVertex(tri, u);
         for (int& w : tri)
         {
           w = beside || w == v ? u : w;

@@ -1103,7 +1103,7 @@ bool Compressor::collapseInto(int i, int v)
         return false; // i is on the border of the simulated zone
       }
     }
-    if (tri[0] == v || tri[1] == v || tri[2] == v)
+    if (hasVertex(tri, v))
     {
       if (nf == 2)
       {
