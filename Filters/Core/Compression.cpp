@@ -705,22 +705,15 @@ bool Compressor::isBorderVertex(int g) const
   return false;
 }
 
-// Boundary distance of grid vertex g at its grid position (the grid's value when known).
-// Caches it in Distance[g] (vertices of different ids may ask from different threads).
+// Boundary distance of grid vertex g at its grid position. Caches it in Distance[g], which
+// starts with the grid's known values (choosePushes()); vertices of different ids may ask from
+// different threads.
 double Compressor::gridDistance(int g, StripTreeScratch& rail)
 {
   double& d = this->Distance[g];
   if (std::isnan(d))
   {
-    if (this->Grid.pointBoundaryDistance.size() == this->Grid.points.size() &&
-      !std::isnan(this->Grid.pointBoundaryDistance[g]))
-    {
-      d = this->Grid.pointBoundaryDistance[g];
-    }
-    else
-    {
-      this->Rails.closest(this->Grid.points[g], rail, &d);
-    }
+    this->Rails.closest(this->Grid.points[g], rail, &d);
   }
   return d;
 }
@@ -2330,10 +2323,7 @@ int Compressor::vertexRegion(int i, StripTreeScratch& rail, DistanceField::Scrat
 // so spares some 80 k tree queries: 0.22 -> 0.19 s).
 bool Compressor::movedLessThanGridDistance(int g, double moved, StripTreeScratch& rail)
 {
-  const bool known = !std::isnan(this->Distance[g]) ||
-    (this->Grid.pointBoundaryDistance.size() == this->Grid.points.size() &&
-      !std::isnan(this->Grid.pointBoundaryDistance[g]));
-  if (!known)
+  if (std::isnan(this->Distance[g]))
   {
     if (!this->CurveCells)
     {
@@ -2511,11 +2501,64 @@ void fillFromGrid(CompressionResult& result, const TriangleMesh& grid)
 
 void Compressor::fillResult()
 {
-  if (!this->ResultFilled)
+  if (this->ResultFilled)
+  {
+    return;
+  }
+  this->ResultFilled = true;
+  if (!this->GridReleased)
   {
     fillFromGrid(this->Result, this->Grid);
-    this->ResultFilled = true;
+    return;
   }
+  // The grid's triangles went (releaseGrid()): those outside the sub-mesh as kept, the others
+  // are written back from the sub-mesh (writeBack()).
+  const std::size_t np = this->Grid.points.size(), nt = this->GridTriangles;
+  withRoom(this->Result.points, np) = this->Grid.points;
+  withRoom(this->Result.triangles, nt).assign(nt, { 0, 0, 0 });
+  withRoom(this->Result.triangleLevel, nt).assign(nt, 0);
+  for (const OutsideTriangle& o : this->Outside)
+  {
+    this->Result.triangles[o.id] = o.corners;
+    this->Result.triangleLevel[o.id] = o.level;
+  }
+  withRoom(this->Result.vertexState, np).assign(np, VertexUntouched);
+}
+
+// With the grid handed over (compressHandedOver()): once the sub-mesh is built, the grid's
+// triangles are read no more but for those outside the sub-mesh (writeBack()), which are kept
+// apart; its arrays but the points go (at 1 M triangles 21 MB that would stay through the
+// simulation, where the run's memory peaks). Its points' boundary distances are in Distance.
+void Compressor::releaseGrid()
+{
+  if (!this->SpentGrid)
+  {
+    return;
+  }
+  const std::size_t nt = this->Grid.triangles.size();
+  const bool levels = this->Grid.triangleLevel.size() == nt;
+  LargeVector<std::uint8_t> inside(nt, 0);
+  for (const int g : this->TriGlobal)
+  {
+    inside[g] = 1;
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+  {
+    if (!inside[t])
+    {
+      this->Outside.push_back(
+        { static_cast<int>(t), this->Grid.triangles[t], levels ? this->Grid.triangleLevel[t] : 0 });
+    }
+  }
+  this->GridTriangles = nt;
+  this->GridReleased = true;
+  TriangleMesh& grid = *this->SpentGrid;
+  LargeVector<std::array<int, 3>>().swap(grid.triangles);
+  LargeVector<int>().swap(grid.triangleLevel);
+  LargeVector<int>().swap(grid.pointLevel);
+  LargeVector<int>().swap(grid.triangleNode);
+  LargeVector<int>().swap(grid.pointVertex);
+  LargeVector<double>().swap(grid.pointBoundaryDistance);
 }
 
 void Compressor::writeBack()
@@ -2524,10 +2567,20 @@ void Compressor::writeBack()
   // Faces outside the simulated zone did not move and no boundary crosses their edges (their
   // corners are no candidates), so their corners lie in one region: they take it, even when
   // a whole island smaller than the face lies inside (aliasing, paper 6.6).
-  for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
+  if (this->GridReleased)
   {
-    this->poll(t);
-    this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
+    for (const OutsideTriangle& o : this->Outside)
+    {
+      this->Result.triangleRegion[o.id] = this->Cls.vertexRegion[o.corners[0]];
+    }
+  }
+  else
+  {
+    for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
+    {
+      this->poll(t);
+      this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
+    }
   }
   const auto& x = this->positions();
   for (std::size_t i = 0; i < this->Global.size(); ++i)
@@ -2597,6 +2650,7 @@ void Compressor::run()
   }
   this->placeJunctions();
   this->buildSubMesh();
+  this->releaseGrid();
   this->Result.secondsPerStage.push_back({ "compression set-up", secondsSince(t0) });
 
   t0 = Clock::now();
@@ -2663,10 +2717,12 @@ void Compressor::run()
 
 namespace
 {
-// compress(), with the classification handed over (`spent`, the same object) or not.
+// compress(), with the classification handed over (`spent`, the same object) or not, and the
+// grid too (`spentGrid`) or not.
 CompressionResult compressWith(const TriangleMesh& grid,
   const Classification& classification,
   Classification* spent,
+  TriangleMesh* spentGrid,
   const Model& model,
   const DistanceField& field,
   const CompressionParams& params,
@@ -2710,7 +2766,8 @@ CompressionResult compressWith(const TriangleMesh& grid,
     result.warnings.push_back("compress: nothing to compress (empty mesh or model)");
     return result;
   }
-  Compressor compressor(grid, classification, model, field, params, progress, result, spent);
+  Compressor compressor(
+    grid, classification, model, field, params, progress, result, spent, spentGrid);
   compressor.run();
   dropCollapsedTriangles(result);
   if (result.degenerateTriangles > 0)
@@ -2755,7 +2812,7 @@ CompressionResult compress(const TriangleMesh& grid,
   const CompressionParams& params,
   const ProgressReporter& progress)
 {
-  return compressWith(grid, classification, nullptr, model, field, params, progress);
+  return compressWith(grid, classification, nullptr, nullptr, model, field, params, progress);
 }
 
 CompressionResult compress(const TriangleMesh& grid,
@@ -2765,7 +2822,18 @@ CompressionResult compress(const TriangleMesh& grid,
   const CompressionParams& params,
   const ProgressReporter& progress)
 {
-  return compressWith(grid, classification, &classification, model, field, params, progress);
+  return compressWith(
+    grid, classification, &classification, nullptr, model, field, params, progress);
+}
+
+CompressionResult compressHandedOver(TriangleMesh& grid,
+  Classification&& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params,
+  const ProgressReporter& progress)
+{
+  return compressWith(grid, classification, &classification, &grid, model, field, params, progress);
 }
 
 } // namespace strata

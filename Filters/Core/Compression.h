@@ -230,6 +230,19 @@ CompressionResult compress(const TriangleMesh& grid,
   const CompressionParams& params = {},
   const ProgressReporter& progress = ProgressReporter());
 
+/// As above, with the grid handed over as well, but for its points: its other arrays (the
+/// triangles, their levels, the points' boundary distances and any other) go once the
+/// compression's set-up has read them, instead of staying through the simulation, and the
+/// points stay for the caller (the displacements). Same result. The grid is left with its
+/// points only, or as it was when nothing is compressed (an empty mesh or model). At 1 M
+/// triangles 21 MB less through the simulation, where the run's memory peaks.
+CompressionResult compressHandedOver(TriangleMesh& grid,
+  Classification&& classification,
+  const Model& model,
+  const DistanceField& field,
+  const CompressionParams& params = {},
+  const ProgressReporter& progress = ProgressReporter());
+
 /// Drops the triangles a collapse removed (all three corners the same vertex) from `r`'s
 /// triangles, levels and regions, keeping the others in order; the collapsed vertices stay in
 /// `r.points`, used by no triangle. Returns how many were dropped.

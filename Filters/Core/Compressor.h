@@ -78,6 +78,8 @@ class Compressor
 {
 public:
   // `spent`, when given, is `cls` itself, handed over: its edges go once the pushes are chosen.
+  // `spentGrid`, when given, is `grid` itself, handed over: all but its points go once the
+  // sub-mesh is built (releaseGrid()).
   Compressor(const TriangleMesh& grid,
     const Classification& cls,
     const Model& model,
@@ -85,10 +87,12 @@ public:
     const CompressionParams& params,
     const ProgressReporter& progress,
     CompressionResult& result,
-    Classification* spent = nullptr)
+    Classification* spent = nullptr,
+    TriangleMesh* spentGrid = nullptr)
     : Grid(grid)
     , Cls(cls)
     , Spent(spent)
+    , SpentGrid(spentGrid)
     , TheModel(model)
     , Field(field)
     , Params(params)
@@ -140,6 +144,7 @@ private:
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
+  void releaseGrid();
   void rebuildStars();
   void updateStars();
   void claimStopPoints();
@@ -393,6 +398,18 @@ private:
   const TriangleMesh& Grid;
   const Classification& Cls;
   Classification* Spent; // Cls, when the caller handed it over (compress(Classification&&))
+  TriangleMesh* SpentGrid; // Grid, when the caller handed it over (compressHandedOver())
+  // Once the grid's triangles went (releaseGrid()): their number, and those outside the
+  // sub-mesh (the sub-mesh's own are written back from it).
+  struct OutsideTriangle
+  {
+    int id;
+    std::array<int, 3> corners;
+    int level;
+  };
+  std::size_t GridTriangles = 0;
+  LargeVector<OutsideTriangle> Outside;
+  bool GridReleased = false;
   const Model& TheModel;
   const DistanceField& Field;
   const CompressionParams& Params;

@@ -5141,8 +5141,10 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
   }
   RefinementResult total;
   const int passes = params.curvePoint && params.regionAt ? kRecoveryPasses : 1;
-  // The curve recovery's answers, from each pass for the next (and for the last pass made
-  // again): most of the mesh is unchanged between them.
+  // The curve recovery's answers, from each pass for the next: most of the mesh is unchanged
+  // between them. (Not for the last pass made again, which asks its own: its mesh's copy and
+  // the last pass's answers, 26 MB at 1 M, would stay through the last pass, the refinement's
+  // memory peak, for a pass that is seldom made again.)
   RecoveryMemo memos[2];
   // The caller's answers, for the first pass (as a memo without probes).
   RecoveryMemo given;
@@ -5184,7 +5186,7 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
     }
     RecoveryMemo* memo =
       pass > 0 ? &memos[(pass - 1) % 2] : (given.triangles.empty() ? nullptr : &given);
-    RecoveryMemo* keep = !last || before ? &memos[pass % 2] : nullptr;
+    RecoveryMemo* keep = last ? nullptr : &memos[pass % 2];
     RefinementResult r =
       refinePass(mesh, splitter, params, last, passes > 1 && last, memo, keep, &handover, part);
     // (The pass let go of `memo` once its recovery had read it.)
@@ -5208,8 +5210,15 @@ RefinementResult refineDelaunay(RegionMesh& mesh,
       if (without.wedgeCorners.size() < params.wedgeCorners.size())
       {
         // (Its progress stays at the pass's end: the fractions never go back.)
-        RefinementResult other = refinePass(
-          *before, splitter, without, last, passes > 1, keep, nullptr, nullptr, part.sub(1.0, 1.0));
+        RefinementResult other = refinePass(*before,
+          splitter,
+          without,
+          last,
+          passes > 1,
+          nullptr,
+          nullptr,
+          nullptr,
+          part.sub(1.0, 1.0));
         if (other.minimumAngle > r.minimumAngle + 1e-9)
         {
           mesh = std::move(*before);

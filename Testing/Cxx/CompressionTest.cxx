@@ -512,6 +512,52 @@ TEST(CompressionTest, AHandedOverClassificationGivesTheSameMeshAndLetsItsEdgesGo
   EXPECT_EQ(nonPositive(r), 0u);
 }
 
+// A grid handed over too (compressHandedOver) gives the same mesh, and is left with its points
+// only: its triangles, levels and distances went once the sub-mesh was built. At level 10 part
+// of the salt dome's grid lies outside the simulated zone, whose triangles the result keeps.
+TEST(CompressionTest, AHandedOverGridGivesTheSameMeshAndKeepsOnlyItsPoints)
+{
+  const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")), 10);
+  for (const bool optimize : { false, true })
+  {
+    strata::CompressionParams params;
+    params.optimize = optimize;
+    const strata::CompressionResult lent = pipe.run(params);
+    strata::TriangleMesh grid = pipe.mesh;
+    ASSERT_FALSE(grid.pointBoundaryDistance.empty());
+    const strata::CompressionResult r = strata::compressHandedOver(
+      grid, strata::Classification(pipe.cls), *pipe.model, *pipe.field, params);
+    EXPECT_TRUE(grid.triangles.empty());
+    EXPECT_TRUE(grid.triangleLevel.empty());
+    EXPECT_TRUE(grid.pointBoundaryDistance.empty());
+    ASSERT_EQ(grid.points.size(), pipe.mesh.points.size());
+    for (std::size_t i = 0; i < grid.points.size(); ++i)
+    {
+      ASSERT_EQ(grid.points[i].x, pipe.mesh.points[i].x) << "point " << i;
+      ASSERT_EQ(grid.points[i].y, pipe.mesh.points[i].y) << "point " << i;
+    }
+    // Some grid triangles were outside the zone and are in the result as the grid had them.
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < pipe.mesh.triangles.size() && t < r.triangles.size(); ++t)
+    {
+      kept += r.triangles[t] == pipe.mesh.triangles[t] &&
+        r.vertexState[r.triangles[t][0]] == strata::VertexUntouched;
+    }
+    EXPECT_GT(kept, 0u);
+    ASSERT_EQ(r.triangles, lent.triangles) << "optimize " << optimize;
+    ASSERT_EQ(r.points.size(), lent.points.size());
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+    {
+      ASSERT_EQ(r.points[i].x, lent.points[i].x) << "point " << i;
+      ASSERT_EQ(r.points[i].y, lent.points[i].y) << "point " << i;
+    }
+    EXPECT_EQ(r.triangleRegion, lent.triangleRegion);
+    EXPECT_EQ(r.triangleLevel, lent.triangleLevel);
+    EXPECT_EQ(r.vertexState, lent.vertexState);
+    EXPECT_EQ(r.warnings, lent.warnings);
+  }
+}
+
 TEST(CompressionTest, AbortStopsTheSimulation)
 {
   const Pipeline pipe(blob(), 9);
