@@ -1101,15 +1101,10 @@ void Compressor::buildSubMesh()
 
   // States.
   withRoom(this->St, nv).assign(nv, Halo);
-  withRoom(this->Target, nv).assign(nv, Vec2{});
   withRoom(this->Loc, nv).assign(nv, Location{});
   this->Progress.report(this->At, this->Stage);
-  withRoom(this->FirstTarget, nv).assign(nv, Location{});
   withRoom(this->PinOnArrival, nv).assign(nv, 0);
-  withRoom(this->Stuck, nv).assign(nv, 0);
-  withRoom(this->Retargets, nv).assign(nv, 0);
-  withRoom(this->PushSteps, nv).assign(nv, 0);
-  withRoom(this->Budget, nv).assign(nv, 0);
+  withRoom(this->PushOf, nv).assign(nv, -1);
   this->Claimed.assign(this->TheModel.nodes.size(), 0);
   LargeVector<int> pushIds; // the pushes onto their nearest curve point, placed below
   for (std::size_t i = 0; i < nv; ++i)
@@ -1132,9 +1127,9 @@ void Compressor::buildSubMesh()
     else if (this->JunctionTarget[g] >= 0)
     {
       this->St[i] = Pushing;
-      this->Loc[i] = this->FirstTarget[i] =
-        this->Rails.locationsOfNode(this->JunctionTarget[g]).front();
-      this->Target[i] = this->TheModel.nodes[this->JunctionTarget[g]];
+      PushRecord& p = this->pushRecord(li);
+      this->Loc[i] = p.first = this->Rails.locationsOfNode(this->JunctionTarget[g]).front();
+      p.target = this->TheModel.nodes[this->JunctionTarget[g]];
       this->PinOnArrival[i] = 1;
       this->Claimed[this->JunctionTarget[g]] = 1;
       this->Sys->setKind(li, ParticleKind::Driven);
@@ -1145,6 +1140,7 @@ void Compressor::buildSubMesh()
     {
       this->St[i] = Pushing;
       pushIds.push_back(li);
+      this->pushRecord(li); // (here: the threads below write records that exist)
       this->Sys->setKind(li, ParticleKind::Driven);
       ++this->Result.pushedVertices;
     }
@@ -1165,13 +1161,14 @@ void Compressor::buildSubMesh()
       for (std::size_t j = from; j < to; ++j)
       {
         const int i = pushIds[j];
-        this->Loc[i] = this->FirstTarget[i] = this->Rails.closest(this->positions()[i], scratch);
+        this->Loc[i] = this->Pushes[this->PushOf[i]].first =
+          this->Rails.closest(this->positions()[i], scratch);
       }
     },
     [&] { this->Progress.report(this->At, this->Stage); });
   for (const int i : pushIds)
   {
-    this->Target[i] = this->Rails.position(this->Loc[i]);
+    this->pushRecord(i).target = this->Rails.position(this->Loc[i]);
     const int point = this->Rails.pointAt(this->Loc[i]);
     this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(this->Loc[i].chain, point);
   }
@@ -1376,7 +1373,7 @@ void Compressor::claimStopPoints()
   {
     if (this->St[i] == Pushing && !this->junctionBound(i))
     {
-      order.push_back({ norm(this->Target[i] - x[i]), i });
+      order.push_back({ norm(this->pushed(i).target - x[i]), i });
     }
   }
   std::sort(order.begin(), order.end());
@@ -1429,9 +1426,10 @@ void Compressor::spreadTargets()
       continue;
     }
     const double h = std::min(this->Sys->localLength(a), this->Sys->localLength(b));
-    if (norm(this->Target[a] - this->Target[b]) < 0.25 * h)
+    const Vec2 ta = this->pushed(a).target, tb = this->pushed(b).target;
+    if (norm(ta - tb) < 0.25 * h)
     {
-      this->retarget(norm2(this->Target[a] - x[a]) <= norm2(this->Target[b] - x[b]) ? b : a);
+      this->retarget(norm2(ta - x[a]) <= norm2(tb - x[b]) ? b : a);
     }
   }
 }
@@ -1439,9 +1437,10 @@ void Compressor::spreadTargets()
 void Compressor::setBudget(int i)
 {
   const double step = this->Params.pushVelocity * this->Params.timeStep * this->Sys->localLength(i);
-  this->PushSteps[i] = 0;
-  this->Budget[i] =
-    static_cast<int>(std::ceil(norm(this->Target[i] - this->positions()[i]) / step)) + kStuckSteps;
+  PushRecord& p = this->pushRecord(i);
+  p.steps = 0;
+  p.budget =
+    static_cast<int>(std::ceil(norm(p.target - this->positions()[i]) / step)) + kStuckSteps;
 }
 
 // Aims pushed vertex i half an edge length (one edge length after two retargets) beside its
@@ -1450,19 +1449,20 @@ void Compressor::setBudget(int i)
 void Compressor::retarget(int i)
 {
   const auto& x = this->positions();
-  const double h = 0.5 * this->Sys->localLength(i) * (1 + this->Retargets[i] / 2);
+  PushRecord& p = this->pushRecord(i);
+  const double h = 0.5 * this->Sys->localLength(i) * (1 + p.retargets / 2);
   const Location now = this->Rails.closest(x[i], this->RailScratch);
   bool found = false;
   Location best;
   double bestD = HUGE_VAL;
-  for (const Location& from : { this->FirstTarget[i], now })
+  for (const Location& from : { p.first, now })
   {
     for (double s : { h, -h })
     {
       const Location l = this->Rails.slide(from, s).location;
-      const Vec2 p = this->Rails.position(l);
-      const double d = norm2(p - x[i]);
-      if (d < bestD && norm(p - this->Target[i]) > 0.05 * h && !this->nearClaimedStop(l, 0.3 * h))
+      const Vec2 at = this->Rails.position(l);
+      const double d = norm2(at - x[i]);
+      if (d < bestD && norm(at - p.target) > 0.05 * h && !this->nearClaimedStop(l, 0.3 * h))
       {
         best = l;
         bestD = d;
@@ -1470,13 +1470,13 @@ void Compressor::retarget(int i)
       }
     }
   }
-  ++this->Retargets[i];
+  ++p.retargets;
   if (!found)
   {
     return;
   }
   this->Loc[i] = best;
-  this->Target[i] = this->Rails.position(best);
+  p.target = this->Rails.position(best);
   const int point = this->Rails.pointAt(best);
   this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(best.chain, point);
 }
@@ -1484,12 +1484,13 @@ void Compressor::retarget(int i)
 void Compressor::startPush(int i, const Location& target)
 {
   this->St[i] = Pushing;
-  this->Loc[i] = this->FirstTarget[i] = target;
-  this->Target[i] = this->Rails.position(target);
+  PushRecord& p = this->pushRecord(i);
+  this->Loc[i] = p.first = target;
+  p.target = this->Rails.position(target);
   const int point = this->Rails.pointAt(target);
   this->PinOnArrival[i] = point >= 0 && this->Rails.isStop(target.chain, point);
-  this->Stuck[i] = 0;
-  this->Retargets[i] = 0;
+  p.stuck = 0;
+  p.retargets = 0;
   this->Sys->setKind(i, ParticleKind::Driven);
   ++this->Result.pushedVertices;
   if (this->nearClaimedStop(target, 0.3 * this->Sys->localLength(i)))
@@ -1508,17 +1509,18 @@ void Compressor::startPush(int i, const Location& target)
 void Compressor::pushStep(int i, double dt)
 {
   auto& x = this->positions();
-  const Vec2 d = this->Target[i] - x[i];
+  PushRecord& p = this->Pushes[this->PushOf[i]];
+  const Vec2 d = p.target - x[i];
   const double remaining = norm(d);
   const double h = this->Sys->localLength(i);
   const double stepLength = this->Params.pushVelocity * dt * h;
   const bool arrive = remaining <= stepLength;
-  const Vec2 to = arrive ? this->Target[i] : x[i] + (stepLength / remaining) * d;
+  const Vec2 to = arrive ? p.target : x[i] + (stepLength / remaining) * d;
   if (!this->accepts(i, to))
   {
     this->Sys->velocities()[i] = Vec2{};
-    ++this->Stuck[i];
-    if (this->Stuck[i] == kStuckSteps / 2 && this->Params.flipDegenerate)
+    ++p.stuck;
+    if (p.stuck == kStuckSteps / 2 && this->Params.flipDegenerate)
     {
       // Ask for the edges opposite i in the triangles that block the move to be flipped.
       for (int s = this->StarStart[i]; s < this->StarStart[i + 1]; ++s)
@@ -1533,15 +1535,14 @@ void Compressor::pushStep(int i, double dt)
         }
       }
     }
-    if (this->Stuck[i] == kStuckSteps && this->Retargets[i] < kMaxRetargets &&
-      !this->junctionBound(i))
+    if (p.stuck == kStuckSteps && p.retargets < kMaxRetargets && !this->junctionBound(i))
     {
-      this->retarget(i);
-      this->Stuck[i] = 0;
+      this->retarget(i); // (i has its record: none is made, p stays valid)
+      p.stuck = 0;
     }
     return;
   }
-  this->Stuck[i] = 0;
+  p.stuck = 0;
   x[i] = to;
   if (!arrive)
   {
@@ -2225,7 +2226,11 @@ void Compressor::simulate()
       const Vec2 before = this->positions()[i];
       this->pushStep(i, dt);
       largest = std::max(largest, norm(this->positions()[i] - before) / this->Sys->localLength(i));
-      pushing |= this->St[i] == Pushing && ++this->PushSteps[i] < this->Budget[i];
+      if (this->St[i] == Pushing)
+      {
+        PushRecord& p = this->Pushes[this->PushOf[i]];
+        pushing |= ++p.steps < p.budget;
+      }
     }
     pushed.erase(std::remove_if(
                    pushed.begin(), pushed.end(), [this](int i) { return this->St[i] != Pushing; }),

@@ -228,8 +228,8 @@ std::size_t Compressor::snapBoundaryVertices()
           ring.end(),
           [&](int a, int b)
           {
-            return norm2(this->positions()[a] - this->Target[v]) <
-              norm2(this->positions()[b] - this->Target[v]);
+            return norm2(this->positions()[a] - this->pushed(v).target) <
+              norm2(this->positions()[b] - this->pushed(v).target);
           });
         for (int w : ring)
         {
@@ -710,14 +710,9 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
   this->JunctionTarget.push_back(-1);
   x.push_back(w);
   this->St.push_back(state);
-  this->Target.push_back(w);
   this->Loc.push_back(at);
-  this->FirstTarget.push_back(at);
   this->PinOnArrival.push_back(0);
-  this->Stuck.push_back(0);
-  this->Retargets.push_back(0);
-  this->PushSteps.push_back(0);
-  this->Budget.push_back(0);
+  this->PushOf.push_back(-1); // (never pushed: the simulation is over)
   this->VRegion.push_back(region);
   this->H.push_back(0.5 * (this->H[a] + this->H[b]));
   // The two new faces.
