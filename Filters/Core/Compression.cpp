@@ -2533,7 +2533,7 @@ void Compressor::fillResult()
 // With the grid handed over (compressHandedOver()): once the sub-mesh is built, the grid's
 // triangles are read no more but for those outside the sub-mesh (writeBack()), which are kept
 // apart; its arrays but the points go (at 1 M triangles 21 MB that would stay through the
-// simulation, where the run's memory peaks). Its points' boundary distances are in Distance.
+// simulation, one of the run's two memory peaks). Its points' distances are in Distance.
 void Compressor::releaseGrid()
 {
   if (!this->SpentGrid)

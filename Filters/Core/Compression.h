@@ -235,7 +235,8 @@ CompressionResult compress(const TriangleMesh& grid,
 /// compression's set-up has read them, instead of staying through the simulation, and the
 /// points stay for the caller (the displacements). Same result. The grid is left with its
 /// points only, or as it was when nothing is compressed (an empty mesh or model). At 1 M
-/// triangles 21 MB less through the simulation, where the run's memory peaks.
+/// triangles 21 MB less through the simulation, one of the run's two memory peaks (the other
+/// is the refinement's).
 CompressionResult compressHandedOver(TriangleMesh& grid,
   Classification&& classification,
   const Model& model,

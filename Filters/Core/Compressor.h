@@ -484,8 +484,8 @@ private:
   LargeVector<Location> Loc; // push target, then position on the rail
   LargeVector<std::uint8_t> PinOnArrival;
   // A push's own state, kept for the vertices that were pushed only (at 1 M 81 k of the 470 k
-  // simulated: 18 MB less than per vertex through the simulation, where the run's memory
-  // peaks). A vertex pushed again in a later wave starts its record anew.
+  // simulated: 18 MB less than per vertex through the simulation, one of the run's two
+  // memory peaks). A vertex pushed again in a later wave starts its record anew.
   struct PushRecord
   {
     Vec2 target;       // where it goes
