@@ -483,6 +483,35 @@ TEST(CompressionTest, RejectsAClassificationOfAnotherMesh)
   EXPECT_THROW(strata::compress(a.mesh, b.cls, *a.model, *a.field), strata::ParameterError);
 }
 
+// Whether two point lists are the same, bit for bit.
+::testing::AssertionResult samePoints(const strata::LargeVector<Vec2>& a,
+  const strata::LargeVector<Vec2>& b)
+{
+  if (a.size() != b.size())
+  {
+    return ::testing::AssertionFailure() << a.size() << " points against " << b.size();
+  }
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    if (!(a[i].x == b[i].x && a[i].y == b[i].y))
+    {
+      return ::testing::AssertionFailure() << "point " << i << " differs";
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Whether two compressions gave the same mesh: triangles, points (bit for bit), regions, levels
+// and vertex states.
+void expectSameMesh(const strata::CompressionResult& r, const strata::CompressionResult& lent)
+{
+  ASSERT_EQ(r.triangles, lent.triangles);
+  EXPECT_TRUE(samePoints(r.points, lent.points));
+  EXPECT_EQ(r.triangleRegion, lent.triangleRegion);
+  EXPECT_EQ(r.triangleLevel, lent.triangleLevel);
+  EXPECT_EQ(r.vertexState, lent.vertexState);
+}
+
 // A classification handed over (compress(Classification&&)) gives the same mesh as one lent,
 // and is left with its vertex arrays only: its face regions and edges went during the run.
 TEST(CompressionTest, AHandedOverClassificationGivesTheSameMeshAndLetsItsEdgesGo)
@@ -499,16 +528,7 @@ TEST(CompressionTest, AHandedOverClassificationGivesTheSameMeshAndLetsItsEdgesGo
   EXPECT_TRUE(handed.cellRegion.empty());
   EXPECT_EQ(handed.vertexRegion, pipe.cls.vertexRegion);
   EXPECT_EQ(handed.vertexClass, pipe.cls.vertexClass);
-  ASSERT_EQ(r.triangles, lent.triangles);
-  ASSERT_EQ(r.points.size(), lent.points.size());
-  for (std::size_t i = 0; i < r.points.size(); ++i)
-  {
-    ASSERT_EQ(r.points[i].x, lent.points[i].x) << "point " << i;
-    ASSERT_EQ(r.points[i].y, lent.points[i].y) << "point " << i;
-  }
-  EXPECT_EQ(r.triangleRegion, lent.triangleRegion);
-  EXPECT_EQ(r.triangleLevel, lent.triangleLevel);
-  EXPECT_EQ(r.vertexState, lent.vertexState);
+  expectSameMesh(r, lent);
   EXPECT_EQ(nonPositive(r), 0u);
 }
 
@@ -520,6 +540,7 @@ TEST(CompressionTest, AHandedOverGridGivesTheSameMeshAndKeepsOnlyItsPoints)
   const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")), 10);
   for (const bool optimize : { false, true })
   {
+    SCOPED_TRACE(optimize ? "with the optimization" : "without the optimization");
     strata::CompressionParams params;
     params.optimize = optimize;
     const strata::CompressionResult lent = pipe.run(params);
@@ -530,12 +551,7 @@ TEST(CompressionTest, AHandedOverGridGivesTheSameMeshAndKeepsOnlyItsPoints)
     EXPECT_TRUE(grid.triangles.empty());
     EXPECT_TRUE(grid.triangleLevel.empty());
     EXPECT_TRUE(grid.pointBoundaryDistance.empty());
-    ASSERT_EQ(grid.points.size(), pipe.mesh.points.size());
-    for (std::size_t i = 0; i < grid.points.size(); ++i)
-    {
-      ASSERT_EQ(grid.points[i].x, pipe.mesh.points[i].x) << "point " << i;
-      ASSERT_EQ(grid.points[i].y, pipe.mesh.points[i].y) << "point " << i;
-    }
+    EXPECT_TRUE(samePoints(grid.points, pipe.mesh.points));
     // Some grid triangles were outside the zone and are in the result as the grid had them.
     std::size_t kept = 0;
     for (std::size_t t = 0; t < pipe.mesh.triangles.size() && t < r.triangles.size(); ++t)
@@ -544,16 +560,7 @@ TEST(CompressionTest, AHandedOverGridGivesTheSameMeshAndKeepsOnlyItsPoints)
         r.vertexState[r.triangles[t][0]] == strata::VertexUntouched;
     }
     EXPECT_GT(kept, 0u);
-    ASSERT_EQ(r.triangles, lent.triangles) << "optimize " << optimize;
-    ASSERT_EQ(r.points.size(), lent.points.size());
-    for (std::size_t i = 0; i < r.points.size(); ++i)
-    {
-      ASSERT_EQ(r.points[i].x, lent.points[i].x) << "point " << i;
-      ASSERT_EQ(r.points[i].y, lent.points[i].y) << "point " << i;
-    }
-    EXPECT_EQ(r.triangleRegion, lent.triangleRegion);
-    EXPECT_EQ(r.triangleLevel, lent.triangleLevel);
-    EXPECT_EQ(r.vertexState, lent.vertexState);
+    expectSameMesh(r, lent);
     EXPECT_EQ(r.warnings, lent.warnings);
   }
 }
