@@ -535,33 +535,44 @@ TEST(CompressionTest, AHandedOverClassificationGivesTheSameMeshAndLetsItsEdgesGo
 // A grid handed over too (compressHandedOver) gives the same mesh, and is left with its points
 // only: its triangles, levels and distances went once the sub-mesh was built. At level 10 part
 // of the salt dome's grid lies outside the simulated zone, whose triangles the result keeps.
+// Also for a mesh without levels or known distances (not a Grid48's).
 TEST(CompressionTest, AHandedOverGridGivesTheSameMeshAndKeepsOnlyItsPoints)
 {
   const Pipeline pipe(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")), 10);
-  for (const bool optimize : { false, true })
+  for (const bool bare : { false, true })
   {
-    SCOPED_TRACE(optimize ? "with the optimization" : "without the optimization");
-    strata::CompressionParams params;
-    params.optimize = optimize;
-    const strata::CompressionResult lent = pipe.run(params);
-    strata::TriangleMesh grid = pipe.mesh;
-    ASSERT_FALSE(grid.pointBoundaryDistance.empty());
-    const strata::CompressionResult r = strata::compressHandedOver(
-      grid, strata::Classification(pipe.cls), *pipe.model, *pipe.field, params);
-    EXPECT_TRUE(grid.triangles.empty());
-    EXPECT_TRUE(grid.triangleLevel.empty());
-    EXPECT_TRUE(grid.pointBoundaryDistance.empty());
-    EXPECT_TRUE(samePoints(grid.points, pipe.mesh.points));
-    // Some grid triangles were outside the zone and are in the result as the grid had them.
-    std::size_t kept = 0;
-    for (std::size_t t = 0; t < pipe.mesh.triangles.size() && t < r.triangles.size(); ++t)
+    strata::TriangleMesh mesh = pipe.mesh;
+    if (bare)
     {
-      kept += r.triangles[t] == pipe.mesh.triangles[t] &&
-        r.vertexState[r.triangles[t][0]] == strata::VertexUntouched;
+      mesh.triangleLevel.clear();
+      mesh.pointBoundaryDistance.clear();
     }
-    EXPECT_GT(kept, 0u);
-    expectSameMesh(r, lent);
-    EXPECT_EQ(r.warnings, lent.warnings);
+    for (const bool optimize : { false, true })
+    {
+      SCOPED_TRACE(std::string(bare ? "a bare mesh, " : "the grid's mesh, ") +
+        (optimize ? "with the optimization" : "without the optimization"));
+      strata::CompressionParams params;
+      params.optimize = optimize;
+      const strata::CompressionResult lent =
+        strata::compress(mesh, pipe.cls, *pipe.model, *pipe.field, params);
+      strata::TriangleMesh grid = mesh;
+      const strata::CompressionResult r = strata::compressHandedOver(
+        grid, strata::Classification(pipe.cls), *pipe.model, *pipe.field, params);
+      EXPECT_TRUE(grid.triangles.empty());
+      EXPECT_TRUE(grid.triangleLevel.empty());
+      EXPECT_TRUE(grid.pointBoundaryDistance.empty());
+      EXPECT_TRUE(samePoints(grid.points, mesh.points));
+      // Some grid triangles were outside the zone and are in the result as the grid had them.
+      std::size_t kept = 0;
+      for (std::size_t t = 0; t < mesh.triangles.size() && t < r.triangles.size(); ++t)
+      {
+        kept += r.triangles[t] == mesh.triangles[t] &&
+          r.vertexState[r.triangles[t][0]] == strata::VertexUntouched;
+      }
+      EXPECT_GT(kept, 0u);
+      expectSameMesh(r, lent);
+      EXPECT_EQ(r.warnings, lent.warnings);
+    }
   }
 }
 
