@@ -1254,19 +1254,29 @@ void Compressor::rebuildStars()
   this->StarTriangles = this->Tri.size();
 }
 
-// The stars after flips only (the simulation's): the same tables as rebuildStars(), which
-// lists every star's triangles in ascending order, computed from the stars before. A flip
-// keeps the four vertices of its two triangles, so only the vertices of the flipped triangles
-// have other stars: each is merged from its old star without the flipped triangles and the
-// flipped triangles that hold it now; the other stars' items are copied in blocks.
+// The stars after flips, splits and collapses: the same tables as rebuildStars(), which lists
+// every star's triangles in ascending order, computed from the stars before. Every triangle
+// whose corners changed since is listed in Flipped (flip(), splitEdge(), collapseInto()), and
+// the triangles and vertices added since (the optimization's splits) are new. A vertex left by
+// a changed triangle is in another changed one (a flip keeps the four vertices of its two
+// triangles, a split its two triangles' and a collapse its star's), so only the vertices of the
+// changed triangles have other stars: each is merged from its old star without the changed
+// triangles and the changed triangles that hold it now; the other stars' items are copied in
+// blocks. (Each triangle has three items, a collapsed one three times its vertex.)
 void Compressor::updateStars()
 {
-  const std::size_t nv = this->Global.size();
-  if (this->Tri.size() != this->StarTriangles || this->StarStart.size() != nv + 1)
+  const std::size_t nv = this->Global.size(), nt = this->Tri.size();
+  if (nt < this->StarTriangles || this->StarStart.empty() || this->StarStart.size() > nv + 1)
   {
     this->rebuildStars();
     return;
   }
+  this->StarStart.resize(nv + 1, this->StarStart.back()); // (new vertices: empty stars)
+  for (std::size_t t = this->StarTriangles; t < nt; ++t)
+  {
+    this->Flipped.push_back(static_cast<int>(t));
+  }
+  this->StarTriangles = nt;
   if (this->Flipped.empty())
   {
     return;
@@ -1289,7 +1299,7 @@ void Compressor::updateStars()
   // The new items go to the scratch buffer, which then swaps with the old ones: a flip round
   // writes every item once, into memory the rounds before already paged in.
   LargeVector<int>& items = this->StarScratch;
-  items.resize(this->StarItems.size());
+  items.resize(3 * nt);
   const int* old = this->StarItems.data();
   int* out = items.data();
   int copied = 0; // old items copied or replaced so far

@@ -452,9 +452,9 @@ private:
   LargeVector<int> TriGlobal, Level, Tag;
   LargeVector<double> RestTwice; // twice the rest area (restrain: keep kCollapse of it)
   LargeVector<int> StarStart, StarItems;
-  // Since the stars were built: the triangles flip() changed (with repeats), the scratch of
-  // updateStars() (marks, and the buffer the new items are written to, swapped with StarItems)
-  // and the triangle count they were built for.
+  // Since the stars were built: the triangles whose corners flip(), splitEdge() and
+  // collapseInto() changed (with repeats), the scratch of updateStars() (marks, and the buffer
+  // the new items are written to, swapped with StarItems) and the triangle count they cover.
   LargeVector<int> Flipped;
   LargeVector<std::uint8_t> FlippedMark;
   LargeVector<int> StarScratch;

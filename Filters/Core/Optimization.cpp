@@ -721,6 +721,8 @@ void Compressor::splitEdge(int t, int k, Vec2 w, std::uint8_t state, const Locat
   const int nAD = this->Nbr[u][(j + 1) % 3], nDB = this->Nbr[u][(j + 2) % 3];
   this->noteChanged(t); // (t2 and u2 are new faces: collectBad() tests those anyway)
   this->noteChanged(u);
+  this->Flipped.push_back(t); // (the stars: updateStars(), which takes t2 and u2 as new)
+  this->Flipped.push_back(u);
   this->Tri[t] = { a, i, c };
   this->Nbr[t] = { u2, t2, nCA };
   this->Tri[u] = { b, i, d };
@@ -1049,7 +1051,7 @@ std::size_t Compressor::refineAngles()
   }
   if (added > 0)
   {
-    this->rebuildStars();
+    this->updateStars();
   }
   return added;
 }
@@ -1208,6 +1210,7 @@ bool Compressor::collapseInto(int i, int v)
   for (int s = si0; s < si1; ++s)
   {
     const int t = this->StarItems[s];
+    this->Flipped.push_back(t); // (the stars: updateStars())
     if (t == f[0] || t == f[1])
     {
       continue;
@@ -1297,7 +1300,7 @@ std::size_t Compressor::collapseSqueezed()
   }
   if (collapsed > 0)
   {
-    this->rebuildStars();
+    this->updateStars();
   }
   return collapsed;
 }
@@ -1389,17 +1392,9 @@ std::size_t Compressor::refineBoundary()
       });
     splits += now;
     // Edges that cannot be split because the curve runs beyond the opposite face: pull that
-    // face's free vertex onto the curve (the next round splits what is left). The stars: made
-    // again after the first round's splits; in a later round made again when its splits added
-    // triangles, else updated from the pulls' flips (the same tables, updateStars()).
-    if (round == 0)
-    {
-      this->rebuildStars();
-    }
-    else
-    {
-      this->updateStars();
-    }
+    // face's free vertex onto the curve (the next round splits what is left). The stars:
+    // updated from the round's splits (updateStars()).
+    this->updateStars();
     const std::size_t pulled = this->forEachDeviatingEdge(deviating,
       [&](int t, int k, const ChainPiece& piece)
       {
@@ -1414,7 +1409,7 @@ std::size_t Compressor::refineBoundary()
       break;
     }
   }
-  this->updateStars(); // (made again or updated, as above)
+  this->updateStars(); // (updated from the pulls' flips)
   return splits;
 }
 
