@@ -1271,7 +1271,8 @@ void Compressor::updateStars()
     this->rebuildStars();
     return;
   }
-  this->StarStart.resize(nv + 1, this->StarStart.back()); // (new vertices: empty stars)
+  const int itemsBefore = this->StarStart.back();
+  this->StarStart.resize(nv + 1, itemsBefore); // (new vertices: empty stars)
   for (std::size_t t = this->StarTriangles; t < nt; ++t)
   {
     this->Flipped.push_back(static_cast<int>(t));
