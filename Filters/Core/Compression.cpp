@@ -2522,13 +2522,8 @@ void Compressor::fillResult()
     return;
   }
   this->ResultFilled = true;
-  if (!this->GridReleased)
-  {
-    fillFromGrid(this->Result, this->Grid);
-    return;
-  }
-  // The grid's triangles went (releaseGrid()): those outside the sub-mesh as kept, the others
-  // are written back from the sub-mesh (writeBack()).
+  // The grid's triangles outside the sub-mesh as kept (keepOutside()), the others written back
+  // from the sub-mesh (writeBack()).
   const std::size_t np = this->Grid.points.size(), nt = this->GridTriangles;
   withRoom(this->Result.points, np) = this->Grid.points;
   withRoom(this->Result.triangles, nt).assign(nt, { 0, 0, 0 });
@@ -2541,16 +2536,13 @@ void Compressor::fillResult()
   withRoom(this->Result.vertexState, np).assign(np, VertexUntouched);
 }
 
-// With the grid handed over (compressHandedOver()): once the sub-mesh is built, the grid's
-// triangles are read no more but for those outside the sub-mesh (writeBack()), which are kept
-// apart; its arrays but the points go (at 1 M triangles 21 MB that would stay through the
-// simulation, one of the run's two memory peaks). Its points' distances are in Distance.
-void Compressor::releaseGrid()
+// Once the sub-mesh is built, the grid's triangles are read no more but for those outside the
+// sub-mesh (fillResult(), writeBack()), which are kept apart. With the grid handed over
+// (compressHandedOver()), its arrays but the points go then (at 1 M triangles 21 MB that would
+// stay through the simulation, one of the run's two memory peaks); its points' distances are
+// in Distance.
+void Compressor::keepOutside()
 {
-  if (!this->SpentGrid)
-  {
-    return;
-  }
   const std::size_t nt = this->Grid.triangles.size();
   const bool levels = this->Grid.triangleLevel.size() == nt;
   LargeVector<std::uint8_t> inside(nt, 0);
@@ -2567,7 +2559,10 @@ void Compressor::releaseGrid()
     }
   }
   this->GridTriangles = nt;
-  this->GridReleased = true;
+  if (!this->SpentGrid)
+  {
+    return;
+  }
   TriangleMesh& grid = *this->SpentGrid;
   LargeVector<std::array<int, 3>>().swap(grid.triangles);
   LargeVector<int>().swap(grid.triangleLevel);
@@ -2583,20 +2578,9 @@ void Compressor::writeBack()
   // Faces outside the simulated zone did not move and no boundary crosses their edges (their
   // corners are no candidates), so their corners lie in one region: they take it, even when
   // a whole island smaller than the face lies inside (aliasing, paper 6.6).
-  if (this->GridReleased)
+  for (const OutsideTriangle& o : this->Outside)
   {
-    for (const OutsideTriangle& o : this->Outside)
-    {
-      this->Result.triangleRegion[o.id] = this->Cls.vertexRegion[o.corners[0]];
-    }
-  }
-  else
-  {
-    for (std::size_t t = 0; t < this->Grid.triangles.size(); ++t)
-    {
-      this->poll(t);
-      this->Result.triangleRegion[t] = this->Cls.vertexRegion[this->Grid.triangles[t][0]];
-    }
+    this->Result.triangleRegion[o.id] = this->Cls.vertexRegion[o.corners[0]];
   }
   const auto& x = this->positions();
   for (std::size_t i = 0; i < this->Global.size(); ++i)
@@ -2666,7 +2650,7 @@ void Compressor::run()
   }
   this->placeJunctions();
   this->buildSubMesh();
-  this->releaseGrid();
+  this->keepOutside();
   this->Result.secondsPerStage.push_back({ "compression set-up", secondsSince(t0) });
 
   t0 = Clock::now();
@@ -2769,7 +2753,8 @@ CompressionResult compressWith(const TriangleMesh& grid,
   }
   CompressionResult result;
   // (With room for the optimization's splits: see withRoom(). The other arrays are filled
-  // from the grid by the compressor when it needs them, fillFromGrid().)
+  // by the compressor when it needs them, Compressor::fillResult(), or from the grid when
+  // nothing is compressed, fillFromGrid().)
   result.firstInsertedPoint = np;
   withRoom(result.triangleRegion, nt) = classification.cellRegion;
   if (spent)

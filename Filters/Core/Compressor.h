@@ -70,7 +70,8 @@ enum State : std::uint8_t
 };
 
 // The result's points, triangles, levels (0 without the grid's) and vertex states
-// (VertexUntouched) as the grid has them, with room for the optimization's splits.
+// (VertexUntouched) as the grid has them, with room for the optimization's splits (when
+// nothing is compressed; the compressor fills its result itself, Compressor::fillResult()).
 void fillFromGrid(CompressionResult& result, const TriangleMesh& grid);
 
 // The simulated sub-mesh and everything done to it.
@@ -79,7 +80,7 @@ class Compressor
 public:
   // `spent`, when given, is `cls` itself, handed over: its edges go once the pushes are chosen.
   // `spentGrid`, when given, is `grid` itself, handed over: all but its points go once the
-  // sub-mesh is built (releaseGrid()).
+  // sub-mesh is built (keepOutside()).
   Compressor(const TriangleMesh& grid,
     const Classification& cls,
     const Model& model,
@@ -144,7 +145,7 @@ private:
   void choosePushes();
   void placeJunctions();
   void buildSubMesh();
-  void releaseGrid();
+  void keepOutside();
   void rebuildStars();
   void updateStars();
   void claimStopPoints();
@@ -399,8 +400,8 @@ private:
   const Classification& Cls;
   Classification* Spent; // Cls, when the caller handed it over (compress(Classification&&))
   TriangleMesh* SpentGrid; // Grid, when the caller handed it over (compressHandedOver())
-  // Once the grid's triangles went (releaseGrid()): their number, and those outside the
-  // sub-mesh (the sub-mesh's own are written back from it).
+  // Once the sub-mesh is built (keepOutside()): the grid's triangle count, and its triangles
+  // outside the sub-mesh (the sub-mesh's own are written back from it).
   struct OutsideTriangle
   {
     int id;
@@ -409,7 +410,6 @@ private:
   };
   std::size_t GridTriangles = 0;
   LargeVector<OutsideTriangle> Outside;
-  bool GridReleased = false;
   const Model& TheModel;
   const DistanceField& Field;
   const CompressionParams& Params;
