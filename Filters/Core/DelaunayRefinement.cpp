@@ -499,6 +499,7 @@ std::size_t collapseShortEdgesAvoiding(RegionMesh& m,
   const RefinementParams& P,
   const std::vector<Zone>& avoid,
   const std::vector<Zone>& within = {});
+bool turnsLeft(Vec2 a, Vec2 b, Vec2 c);
 double smallestCosine(Vec2 a, Vec2 b, Vec2 c);
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c);
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest);
@@ -2306,15 +2307,15 @@ LargeVector<int> Refiner::centroidRegionsNear(const RecoveryMemo* before)
 bool Refiner::retag(int t, char* far, const int* near)
 {
   const auto& tri = this->M.triangles[t];
-  // (The centroid and the longest edge only for the queries: with `near`, at 1 M every
+  // (The centroid g and the longest edge only for the queries: with `near`, at 1 M every
   // triangle of the first round, none is asked.)
-  const auto centroid = [&]
-  { return (1.0 / 3.0) * (this->X(tri[0]) + this->X(tri[1]) + this->X(tri[2])); };
+  Vec2 g{};
   const auto farFromCurves = [&]
   {
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    g = (1.0 / 3.0) * (a + b + c);
     const double longest = std::sqrt(std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }));
-    return this->P.curveDistance && this->P.curveDistance(centroid(), longest) >= longest;
+    return this->P.curveDistance && this->P.curveDistance(g, longest) >= longest;
   };
   if (!this->Live[t] || (near ? *near == kNoCurveNear : farFromCurves()))
   {
@@ -2324,7 +2325,7 @@ bool Refiner::retag(int t, char* far, const int* near)
     }
     return false; // no curve runs near it: its region is its neighbours'
   }
-  const int r = near ? *near : this->P.regionAt(centroid());
+  const int r = near ? *near : this->P.regionAt(g); // (g: set by farFromCurves() without near)
   if (r == this->M.region[t])
   {
     return false;
@@ -2909,7 +2910,7 @@ double Refiner::starCosine(const int* first, const int* last, double& largest) c
   {
     const auto& tri = this->M.triangles[*it];
     const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
-    if (!(orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a))))
+    if (!turnsLeft(a, b, c))
     {
       return 2.0;
     }
@@ -4432,17 +4433,23 @@ double smallestCosine(Vec2 a, Vec2 b, Vec2 c)
   return (p + q - s) / (2.0 * std::sqrt(p * q));
 }
 
-// Smallest-angle cosine of abc, or 2 when abc is not counter-clockwise.
+// Whether abc is counter-clockwise beyond rounding: twice its area above 1e-12 of the squared
+// length of its longer side at a.
+bool turnsLeft(Vec2 a, Vec2 b, Vec2 c)
+{
+  return orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a));
+}
+
+// Smallest-angle cosine of abc, or 2 when abc is not counter-clockwise (turnsLeft()).
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c)
 {
-  return orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a)) ? smallestCosine(a, b, c)
-                                                                          : 2.0;
+  return turnsLeft(a, b, c) ? smallestCosine(a, b, c) : 2.0;
 }
 
 // The same and, in `largest`, the cosine of its largest angle (-1 when not counter-clockwise).
 double shapeCosine(Vec2 a, Vec2 b, Vec2 c, double& largest)
 {
-  const bool turns = orient2d(a, b, c) > 1e-12 * std::max(norm2(b - a), norm2(c - a));
+  const bool turns = turnsLeft(a, b, c);
   largest = turns ? largestAngleCosine(a, b, c) : -1.0;
   return turns ? smallestCosine(a, b, c) : 2.0;
 }
