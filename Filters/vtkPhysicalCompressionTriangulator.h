@@ -314,8 +314,8 @@ public:
    *   automatic too, a region with more or fewer pieces than the model has (`BrokenRegions`), a
    *   `MaxRelativeBoundaryDeviation` above 0.5 or triangles still below min(MinimumAngle, 30)
    *   (by more than 0.05 degrees) where no input corner forces them: made again with
-   *   LocalMaxLevel 4 levels finer and, when that one is kept and still misses one of the
-   *   others (not that last one alone), 2 levels finer again; when that third one
+   *   LocalMaxLevel 4 levels finer and, when that one is kept and still misses any of
+   *   these, 2 levels finer again; when that third one
    *   is kept and still cuts a region, 2 levels finer once more (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with

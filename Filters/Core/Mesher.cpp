@@ -3031,8 +3031,11 @@ MesherResult triangulateToward(const RawPolylines& input,
   // 4 levels finer (spit_and_bay_lake.vtp with ThinLayerRefinement on: 0.61 -> 0.39 local edges,
   // +32% triangles; by default its thin layers refined around the miss mend it).
   // With every size automatic, triangles left below min(MinimumAngle, 30) (but above 25
-  // degrees) that no input corner forces are a miss too, for this first step only (a layer thinning
-  // to about a finest edge: thinning_layer_section.vtp, 25.78 -> 30.0 degrees 4 levels finer).
+  // degrees) that no input corner forces are a miss too (a layer thinning to about a finest edge:
+  // thinning_layer_section.vtp, 25.78 -> 30.0 degrees 4 levels finer), for the first two steps:
+  // a finer mesh kept with only that miss left is made 2 levels finer again (a layer whose
+  // boundary edge where it thins is too short to split: narrow_layer_section.vtp, 27.00 -> 30.0
+  // degrees at LocalMaxLevel 20; until 2026-12-07 that step was for the hard bounds only).
   const Clock::time_point begin = Clock::now();
   MesherResult first = triangulateWithThinLayers(
     input, params, progress.sub(0.0, kFirstShare), automaticSizes(params), towardAngle);
@@ -3159,7 +3162,8 @@ MesherResult triangulateToward(const RawPolylines& input,
     return first;
   }
   // The ladder: LocalMaxLevel kFinerLevels finer; then, while the new mesh is kept and still
-  // misses a bound, kFinestLevels finer again; then, while it still cuts a region, once more.
+  // misses a bound or the angle's goal, kFinestLevels finer again; then, while it still cuts a
+  // region, once more.
   // Each new mesh is compared with the one before it (better(), for that one's misses).
   struct Step
   {
@@ -3199,7 +3203,7 @@ MesherResult triangulateToward(const RawPolylines& input,
     misses = missesOf(made);
     // (The third step only for a region still cut: a layer about two finest edges thick, cut
     // where it thins out.)
-    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.hard());
+    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.any());
     if (!newKept || !again || finerParams.grid.localMaxLevel + steps[i + 1].levels > 60)
     {
       break;

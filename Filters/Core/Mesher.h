@@ -93,7 +93,7 @@ struct MesherParams
   /// its smallest angle is larger, or when it mends the area, the pieces or the deviation
   /// without a smaller smallest angle (up to 30 degrees) (a warning gives both;
   /// Summary::localMaxLevel); when
-  /// the finer one is kept and still misses one of the others (not that last one alone), it
+  /// the finer one is kept and still misses any of these (that last one too), it
   /// is made once more 2 levels finer again, kept
   /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
   /// once more. With keepSharpCorners these smallest angles are those away from the
