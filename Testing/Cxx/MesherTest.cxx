@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <ostream>
@@ -2012,6 +2013,26 @@ void expectEveryTriangleAtThirtyWithinTheBounds(const strata::MesherResult& r)
   EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
   EXPECT_TRUE(r.brokenRegions.empty());
 }
+
+// The mesh of a Data model made by default, which ThinLayerRetry's ladder made again finer: at
+// `level`, every triangle at 30 degrees within issue 5's bounds, each of `said` in its warnings
+// and no triangle named below MinimumAngle. Returns the model.
+strata::RawPolylines expectMadeAgainFinerAtThirty(const char* file,
+  int level,
+  std::initializer_list<const char*> said)
+{
+  auto [raw, r] = madeByDefault(file);
+  expectEveryTriangleAtThirtyWithinTheBounds(r);
+  EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
+  EXPECT_EQ(r.summary.localMaxLevel, level);
+  const std::string warnings = allWarnings(r);
+  for (const char* text : said)
+  {
+    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
+  }
+  EXPECT_EQ(warnings.find("stay below MinimumAngle"), std::string::npos) << warnings;
+  return std::move(raw);
+}
 } // namespace
 
 // The last pass's cautious run may leave a triangle below MinimumAngle where a bolder
@@ -2320,17 +2341,11 @@ TEST(MesherTest, TwoFreeVerticesTooCloseForTheRefinementMeetHalfWayInACountry)
 // is made at that level only, and its triangles below the angle are named.
 TEST(MesherTest, AMeshBelowTheAngleGoalIsMadeAgainFinerWithTheAutomaticSizes)
 {
-  const auto [raw, r] = madeByDefault("thinning_layer_section.vtp");
-  expectEveryTriangleAtThirtyWithinTheBounds(r);
-  EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
-  EXPECT_EQ(r.summary.localMaxLevel, 18);
-  const std::string warnings = allWarnings(r);
-  EXPECT_NE(warnings.find("the mesh at LocalMaxLevel 14 had triangles below 30 degrees "
-                          "(smallest 25.78), so it was made again at LocalMaxLevel 18"),
-    std::string::npos)
-    << warnings;
-  EXPECT_NE(warnings.find("the finer one is kept"), std::string::npos) << warnings;
-  EXPECT_EQ(warnings.find("stay below MinimumAngle"), std::string::npos) << warnings;
+  const strata::RawPolylines raw = expectMadeAgainFinerAtThirty("thinning_layer_section.vtp",
+    18,
+    { "the mesh at LocalMaxLevel 14 had triangles below 30 degrees (smallest 25.78), so it was "
+      "made again at LocalMaxLevel 18",
+      "the finer one is kept" });
 
   strata::MesherParams set;
   set.grid.localMaxLevel = 14;
@@ -2351,20 +2366,12 @@ TEST(MesherTest, AMeshBelowTheAngleGoalIsMadeAgainFinerWithTheAutomaticSizes)
 // one warning.
 TEST(MesherTest, AFinerMeshStillBelowTheAngleGoalIsMadeTwoLevelsFinerAgain)
 {
-  const auto [raw, r] = madeByDefault("narrow_layer_section.vtp");
-  expectEveryTriangleAtThirtyWithinTheBounds(r);
-  EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
-  EXPECT_EQ(r.summary.localMaxLevel, 20);
-  const std::string warnings = allWarnings(r);
-  EXPECT_NE(warnings.find("so it was made again at LocalMaxLevel 18 (smallest 27.00 degrees"),
-    std::string::npos)
-    << warnings;
-  EXPECT_NE(warnings.find("the finer one is kept, but it had triangles below 30 degrees (smallest "
-                          "27.00), so it was made again at LocalMaxLevel 20"),
-    std::string::npos)
-    << warnings;
-  EXPECT_NE(warnings.find("the third one is kept"), std::string::npos) << warnings;
-  EXPECT_EQ(warnings.find("stay below MinimumAngle"), std::string::npos) << warnings;
+  expectMadeAgainFinerAtThirty("narrow_layer_section.vtp",
+    20,
+    { "so it was made again at LocalMaxLevel 18 (smallest 27.00 degrees",
+      "the finer one is kept, but it had triangles below 30 degrees (smallest 27.00), so it was "
+      "made again at LocalMaxLevel 20",
+      "the third one is kept" });
 }
 
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
