@@ -316,7 +316,8 @@ public:
    *   (by more than 0.05 degrees) where no input corner forces them: made again with
    *   LocalMaxLevel 4 levels finer and, when that one is kept and still misses any of
    *   these, 2 levels finer again; when that third one
-   *   is kept and still cuts a region, 2 levels finer once more (field `LocalMaxLevel`).
+   *   is kept and still cuts a region, 2 levels finer once more; a finer mesh not kept that
+   *   cuts a region as the kept one does leads to the next step too (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
    *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary

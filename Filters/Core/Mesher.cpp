@@ -3164,16 +3164,25 @@ MesherResult triangulateToward(const RawPolylines& input,
   // The ladder: LocalMaxLevel kFinerLevels finer; then, while the new mesh is kept and still
   // misses a bound or the angle's goal, kFinestLevels finer again; then, while it still cuts a
   // region, once more.
-  // Each new mesh is compared with the one before it (better(), for that one's misses).
+  // Each new mesh is compared with the one kept so far (better(), for that one's misses). A
+  // region cut in the kept mesh and in the finer one not kept (a neck narrower than both meshes'
+  // finest triangles) goes on to the next step too, compared with the kept one: f160 of
+  // random_faulted_sections.py 160 172, cut at LocalMaxLevel 14 and 18, is whole at 20.
   struct Step
   {
     int levels;
-    double end;           // the new mesh's share of the progress ends here
-    const char* names[2]; // the one before and the new one, in the warning
+    double end; // the new mesh's share of the progress ends here
   };
-  const std::array<Step, 3> steps = { { { kFinerLevels, kFinerShare, { "first", "finer" } },
-    { kFinestLevels, kFinestShare, { "second", "third" } },
-    { kFinestLevels, 1.0, { "third", "fourth" } } } };
+  const std::array<Step, 3> steps = {
+    { { kFinerLevels, kFinerShare }, { kFinestLevels, kFinestShare }, { kFinestLevels, 1.0 } }
+  };
+  // The meshes' names in the warning, by their order (the second is the "finer" one of the
+  // first step).
+  const auto nameOf = [](std::size_t mesh, std::size_t step)
+  {
+    static const char* const ordinals[] = { "first", "second", "third", "fourth" };
+    return std::string(step == 0 && mesh == 1 ? "finer" : ordinals[mesh]);
+  };
   MesherParams finerParams = params;
   finerParams.grid.localMaxLevel = first.summary.localMaxLevel;
   if (automaticSizes(params))
@@ -3183,35 +3192,48 @@ MesherResult triangulateToward(const RawPolylines& input,
   std::vector<MesherResult> meshes;
   meshes.reserve(steps.size() + 1);
   meshes.push_back(std::move(first));
-  Misses misses = m1;
+  std::size_t kept = 0; // the mesh kept so far
+  Misses misses = m1;   // its misses
+  bool cutToo = false;  // the last mesh made, not kept, cuts a region as the kept one does
   std::string text =
     "the mesh at LocalMaxLevel " + std::to_string(meshes.front().summary.localMaxLevel) + " ";
   double start = kFirstShare;
-  bool newKept = false;
   for (std::size_t i = 0; i < steps.size(); ++i)
   {
     finerParams.grid.localMaxLevel += steps[i].levels;
     meshes.push_back(triangulateWithThinLayers(
       input, finerParams, progress.sub(start, steps[i].end), automaticSizes(params), towardAngle));
     start = steps[i].end;
-    const MesherResult& before = meshes[meshes.size() - 2];
-    const MesherResult& made = meshes.back();
-    newKept = better(made, before, misses);
-    text += std::string(i == 0 ? "" : ", but it ") + why(before, misses) +
-      ", so it was made again at " + figures(made) + "; the " + steps[i].names[newKept ? 1 : 0] +
+    const std::size_t newest = meshes.size() - 1;
+    const MesherResult& made = meshes[newest];
+    const bool newKept = better(made, meshes[kept], misses);
+    if (i > 0 && cutToo)
+    {
+      text += ", but as the " + nameOf(newest - 1, i - 1) + " one cut a region too, it was";
+    }
+    else
+    {
+      text += (i == 0 ? "" : ", but it ") + why(meshes[kept], misses) + ", so it was";
+    }
+    text += " made again at " + figures(made) + "; the " + nameOf(newKept ? newest : kept, i) +
       " one is kept";
-    misses = missesOf(made);
+    const Misses madeMisses = missesOf(made);
+    cutToo = !newKept && misses.pieces && madeMisses.pieces;
+    if (newKept)
+    {
+      kept = newest;
+      misses = madeMisses;
+    }
     // (The third step only for a region still cut: a layer about two finest edges thick, cut
     // where it thins out.)
-    const bool again = i + 1 < steps.size() && (i + 1 == 2 ? misses.pieces : misses.any());
-    if (!newKept || !again || finerParams.grid.localMaxLevel + steps[i + 1].levels > 60)
+    const bool again =
+      i + 1 < steps.size() && (cutToo || (newKept && (i + 1 == 2 ? misses.pieces : misses.any())));
+    if (!again || finerParams.grid.localMaxLevel + steps[i + 1].levels > 60)
     {
       break;
     }
   }
-  // The kept mesh, with the others' seconds: the other of the last two first, then the
-  // earlier ones, latest first.
-  const std::size_t kept = newKept ? meshes.size() - 1 : meshes.size() - 2;
+  // The kept mesh, with the others' seconds (taken latest first).
   meshes[kept].warnings.push_back(text);
   MesherResult result = std::move(meshes[kept]);
   for (std::size_t j = meshes.size(); j-- > 0;)

@@ -96,7 +96,9 @@ struct MesherParams
   /// the finer one is kept and still misses any of these (that last one too), it
   /// is made once more 2 levels finer again, kept
   /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
-  /// once more. With keepSharpCorners these smallest angles are those away from the
+  /// once more. A finer mesh not kept that cuts a region as the kept one does (a neck narrower
+  /// than both meshes' triangles) leads to the next of these steps too, compared with the kept
+  /// one. With keepSharpCorners these smallest angles are those away from the
   /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };

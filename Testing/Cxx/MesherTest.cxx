@@ -2374,6 +2374,28 @@ TEST(MesherTest, AFinerMeshStillBelowTheAngleGoalIsMadeTwoLevelsFinerAgain)
       "the third one is kept" });
 }
 
+// A region joined across a fault by a neck 0.05 units wide, an eighth of the finest edge at the
+// automatic LocalMaxLevel 14 (fault_neck_section.vtp, f160 of random_faulted_sections.py 160
+// 172): made once, the mesh cuts region 3 in two, and so does the mesh 4 levels finer, not kept
+// then (no fewer regions cut). As the cut persists at the finer level, the ladder goes on,
+// compared with the first mesh: 2 levels finer it is cut still, 2 more and it is whole, and that
+// mesh is kept.
+TEST(MesherTest, ARegionStillCutAtTheFinerLevelIsMadeFinerAgainUntilWhole)
+{
+  const auto [raw, once] = madeOnce("fault_neck_section.vtp");
+  EXPECT_EQ(once.summary.localMaxLevel, 14);
+  EXPECT_EQ(once.brokenRegions, std::vector<int>{ 3 });
+  expectMadeAgainFinerAtThirty("fault_neck_section.vtp",
+    22,
+    { "the mesh at LocalMaxLevel 14 cut 1 region(s) into more pieces than the model has (or left "
+      "fewer), so it was made again at LocalMaxLevel 18",
+      "1 regions cut, boundary deviation 0.0303 local edges, 8049 triangles); the first one is "
+      "kept, but as the finer one cut a region too, it was made again at LocalMaxLevel 20",
+      "the first one is kept, but as the third one cut a region too, it was made again at "
+      "LocalMaxLevel 22 (smallest 30.00 degrees, area error 0.01%, 0 regions cut",
+      "the fourth one is kept" });
+}
+
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
 // LocalMaxLevel 14 automatic): the mesh made once keeps triangles below 25 degrees that no input
 // corner forces (7.9 degrees). They are counted (those whose smallest angle sits on a model

@@ -326,6 +326,18 @@ class TriangulationTest(unittest.TestCase):
         self.assertEqual(field(default, "TrianglesBelowMinimumAngle"), 0)
         self.assertLessEqual(field(default, "MaxRegionAreaError"), 0.005)
 
+    def test_a_region_still_cut_at_the_finer_level_is_made_finer_again(self):
+        # Region 3 is joined across a fault by a neck an eighth of the finest edge wide: made
+        # once it is cut (BrokenRegions); by default the meshes 4 and 6 levels finer cut it too,
+        # and the one 8 levels finer keeps it whole.
+        default, once = default_and_changed("fault_neck_section.vtp", ThinLayerRetry=0)
+        broken = once.VTKObject.GetFieldData().GetArray("BrokenRegions")
+        self.assertEqual([broken.GetValue(i) for i in range(broken.GetNumberOfTuples())], [3])
+        self.assertEqual(field(default, "LocalMaxLevel"), field(once, "LocalMaxLevel") + 8)
+        broken = default.VTKObject.GetFieldData().GetArray("BrokenRegions")
+        self.assertEqual(broken.GetNumberOfTuples(), 0)
+        self.assertGreaterEqual(field(default, "MinimumAngle"), 30.0 - 1e-6)
+
     def test_a_layer_the_mesh_cuts_is_named_and_made_whole_again(self):
         # Region 3 is one piece in the model; made once, the mesh cuts it in two where it is
         # about 1.3 finest edges thick and names it in BrokenRegions; by default the mesh is made
