@@ -3167,7 +3167,8 @@ MesherResult triangulateToward(const RawPolylines& input,
   // Each new mesh is compared with the one kept so far (better(), for that one's misses). A
   // region cut in the kept mesh and in the finer one not kept (a neck narrower than both meshes'
   // finest triangles) goes on to the next step too, compared with the kept one: f160 of
-  // random_faulted_sections.py 160 172, cut at LocalMaxLevel 14 and 18, is whole at 20.
+  // random_faulted_sections.py 160 172 (fault_neck_section.vtp), cut at LocalMaxLevel 14, 18
+  // and 20, is whole at 22.
   struct Step
   {
     int levels;
@@ -3207,7 +3208,7 @@ MesherResult triangulateToward(const RawPolylines& input,
     const std::size_t newest = meshes.size() - 1;
     const MesherResult& made = meshes[newest];
     const bool newKept = better(made, meshes[kept], misses);
-    if (i > 0 && cutToo)
+    if (cutToo) // (never in the first step)
     {
       text += ", but as the " + nameOf(newest - 1, i - 1) + " one cut a region too, it was";
     }
