@@ -224,13 +224,11 @@ std::size_t Compressor::snapBoundaryVertices()
             }
           }
         }
+        const Vec2 target = this->pushed(v).target;
         std::sort(ring.begin(),
           ring.end(),
           [&](int a, int b)
-          {
-            return norm2(this->positions()[a] - this->pushed(v).target) <
-              norm2(this->positions()[b] - this->pushed(v).target);
-          });
+          { return norm2(this->positions()[a] - target) < norm2(this->positions()[b] - target); });
         for (int w : ring)
         {
           if (this->placeOnCurve(w, junction, 1.0))
