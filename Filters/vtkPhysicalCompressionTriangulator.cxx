@@ -218,6 +218,7 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
   vtkStrataMeshOutput::AddField(fd, "MaxRelativeBoundaryDeviation", s.maxRelativeDeviation);
   vtkStrataMeshOutput::AddField(fd, "MaxBoundaryVertexDistance", s.maxBoundaryVertexDistance);
   vtkStrataMeshOutput::AddField(fd, "MaxRegionAreaError", s.maxRegionAreaError);
+  vtkStrataMeshOutput::AddField(fd, "MaxRegionMisplacedArea", s.maxRegionMisplacedArea);
   vtkStrataMeshOutput::AddField(fd, "FinestEdgeLength", s.finestEdgeLength);
   vtkStrataMeshOutput::AddField(fd, "Iterations", s.iterations);
   vtkStrataMeshOutput::AddField(fd, "BoundarySplits", static_cast<int>(s.boundarySplits));

@@ -29,7 +29,12 @@
  * regions narrower than the finest edge: above 0.5, a piece of a region is lost or added),
  * `MaxBoundaryVertexDistance` (model units: the farthest vertex of output port 1 from the
  * input curves; above 1e-9 of the model's size a warning says where it is),
- * `MaxRegionAreaError` (relative), `FinestEdgeLength` (model units: MinimumEdgeLength when
+ * `MaxRegionAreaError` (relative: the largest |mesh area - model area| over a region's model
+ * area), `MaxRegionMisplacedArea` (relative: the largest misplaced area, lost plus added,
+ * over a region's model area; the symmetric difference of the region's triangles and its
+ * model region, which a loss at one place and a gain at another do not cancel; at least
+ * `MaxRegionAreaError`; ThinLayerRetry holds both to 0.5%), `FinestEdgeLength` (model units:
+ * MinimumEdgeLength when
  * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
  * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
  * `UnresolvedRegions` (ids
@@ -301,7 +306,8 @@ public:
    * Beyond the paper, with Optimization: a mesh that misses a bound is made again another
    * way and the better one kept. Default on; off: one mesh, as made.
    * - A smallest angle below min(MinimumAngle, 30) by more than 0.05 degrees (not checked
-   *   with KeepSharpCorners), a region's area off by more than 0.5%, a vertex of the
+   *   with KeepSharpCorners), a region's area off by more than 0.5% (`MaxRegionAreaError`, or
+   *   its misplaced area, lost plus added: `MaxRegionMisplacedArea`), a vertex of the
    *   approximated boundary off the curves, or, with no level set (no MaxLevel or
    *   LocalMaxLevel; sizes in model units allowed), the boundary more
    *   than half the local edge off the curves where the region is at least a finest edge wide

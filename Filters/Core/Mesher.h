@@ -68,9 +68,11 @@ struct MesherParams
   bool keepSharpCorners = false;
   /// Beyond the paper, with compression.optimize: when the mesh's smallest angle is below
   /// min(refinement.minimumAngle, 30) by more than 0.05 degrees (not checked with
-  /// keepSharpCorners), or a region's area is off by more than 0.5%, or a vertex of the
-  /// approximated boundary lies off the curves (Summary::maxBoundaryVertexDistance above 1e-9
-  /// of the model's size), it is made again with
+  /// keepSharpCorners), or a region's area is off by more than 0.5% (Summary::maxRegionAreaError,
+  /// or its misplaced area: Summary::maxRegionMisplacedArea, lost plus added, which a loss at
+  /// one place and a gain at another do not cancel; the comparisons below are of the net area
+  /// error), or a vertex of the approximated boundary lies off the curves
+  /// (Summary::maxBoundaryVertexDistance above 1e-9 of the model's size), it is made again with
   /// grid.thinLayerRefinement (layers thinner than the cells get cells as wide as they are)
   /// and the better of the two is kept: the larger smallest angle (up to that bound), then the
   /// smaller area error (Summary::thinLayerMesh, a warning). With no level set (maxLevel and
@@ -130,12 +132,21 @@ struct MesherResult
   };
   std::vector<BoundaryCurve> boundary;
 
-  /// Area of a region in the model (from its rings) and in the mesh.
+  /// Area of a region in the model (from its rings) and in the mesh, and its misplaced area:
+  /// what its triangles cover that the model gives another region or the exterior, plus what of
+  /// its model area other triangles cover (the symmetric difference of the two, which the
+  /// independent checker measures; the net difference mesh - model may hide it, a loss in one
+  /// place making up for a gain in another). model units^2. The misplaced area is estimated
+  /// from the approximated boundary: the pieces between each boundary edge with both ends on a
+  /// curve of its two regions and the stretch of the curve it stands for, plus what these leave
+  /// unexplained of the net difference (a layer's tip cut off by an edge across it, a piece
+  /// lost whole).
   struct RegionArea
   {
     int id = -1;
     double model = 0.0;
     double mesh = 0.0;
+    double misplaced = 0.0;
   };
   std::vector<RegionArea> regionAreas;
   /// Ids of the regions whose triangles cover less than half of their model area (regions
@@ -202,6 +213,9 @@ struct MesherResult
     double maxBoundaryVertexDistance = 0.0;
     /// Largest |mesh area - model area| / model area over the regions.
     double maxRegionAreaError = 0.0;
+    /// Largest misplaced area (RegionArea::misplaced) / model area over the regions: at least
+    /// maxRegionAreaError. MesherParams::thinLayerRetry holds both to issue 5's 0.5%.
+    double maxRegionMisplacedArea = 0.0;
     /// The finest edge length the mesh aims at (model units): the refinement's
     /// minimumEdgeLength when set, else grid.minEdgeLength (the user's MinimumEdgeLength), else
     /// the grid's finest leg at its junction level. Regions narrower than this cannot be

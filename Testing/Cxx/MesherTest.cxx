@@ -726,6 +726,7 @@ TEST_P(DefaultQuality, AnglesAreasAndBoundaryStayWithinTheirBounds)
   EXPECT_LE(r.summary.maxAngle, c.maxAngle);
   EXPECT_GE(100.0 * above30 / r.triangles.size(), c.percentAbove30);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005); // issue 5's 0.5%, on every model
+  EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005); // lost plus added, too
   const strata::Model model = strata::buildModel(raw);
   EXPECT_LE(boundaryDeviationOverLocalEdge(model, r), c.deviation);
   // The mesher's own measure agrees (a sample beside a thin spike's apex, taken for wide,
@@ -2010,6 +2011,7 @@ void expectEveryTriangleAtThirtyWithinTheBounds(const strata::MesherResult& r)
   EXPECT_EQ(r.summary.trianglesBelowMinimumAngle, 0u);
   EXPECT_LE(r.summary.maxAngle, 130.0);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
   EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
   EXPECT_TRUE(r.brokenRegions.empty());
 }
@@ -2394,6 +2396,134 @@ TEST(MesherTest, ARegionStillCutAtTheFinerLevelIsMadeFinerAgainUntilWhole)
       "the first one is kept, but as the third one cut a region too, it was made again at "
       "LocalMaxLevel 22 (smallest 30.00 degrees, area error 0.01%, 0 regions cut",
       "the fourth one is kept" });
+}
+
+namespace
+{
+// The convex polygon `poly` (counter-clockwise) clipped to the half-plane left of the directed
+// line a -> b (Sutherland-Hodgman).
+std::vector<Vec2> clippedLeftOf(const std::vector<Vec2>& poly, Vec2 a, Vec2 b)
+{
+  std::vector<Vec2> out;
+  for (std::size_t i = 0; i < poly.size(); ++i)
+  {
+    const Vec2 p = poly[i], q = poly[(i + 1) % poly.size()];
+    const double sp = strata::cross(b - a, p - a), sq = strata::cross(b - a, q - a);
+    if (sp >= 0.0)
+    {
+      out.push_back(p);
+    }
+    if ((sp > 0.0 && sq < 0.0) || (sp < 0.0 && sq > 0.0))
+    {
+      out.push_back(p + (sp / (sp - sq)) * (q - p));
+    }
+  }
+  return out;
+}
+
+double polygonArea(const std::vector<Vec2>& poly)
+{
+  double sum = 0.0;
+  for (std::size_t i = 0; i < poly.size(); ++i)
+  {
+    sum += strata::cross(poly[i], poly[(i + 1) % poly.size()]);
+  }
+  return 0.5 * sum;
+}
+} // namespace
+
+// RegionArea::misplaced (and Summary::maxRegionMisplacedArea) is the symmetric difference of a
+// region's triangles and its model region. A section 100 x 60 split by a zigzag curve (teeth
+// 1.5 units up and down, 5 apart) is meshed by the paper's method on a grid coarser than its
+// teeth: the mesh's boundary cuts across the peaks, where region 0 loses to region 1, and the
+// valleys, where it gains. The misplaced areas agree with the exact figures, every triangle
+// clipped against the region below the curve tooth by tooth; the net area errors hide most of
+// them.
+TEST(MesherTest, TheMisplacedAreaIsTheSymmetricDifferenceOfTheMeshAndTheModel)
+{
+  std::vector<Vec2> zigzag;
+  for (int i = 0; i <= 20; ++i)
+  {
+    zigzag.push_back({ 5.0 * i, i % 2 ? 31.5 : 28.5 });
+  }
+  strata::RawPolylines raw;
+  std::vector<Vec2> below = { { 0, 0 }, { 100, 0 } }, above = zigzag;
+  below.insert(below.end(), zigzag.rbegin(), zigzag.rend());
+  above.insert(above.end(), { { 100, 60 }, { 0, 60 } });
+  strata_test::addLoop(raw, below, 0);
+  strata_test::addLoop(raw, above, 1);
+  strata::MesherParams paper;
+  paper.compression.optimize = false;
+  paper.grid.maxLevel = 8;
+  const strata::MesherResult r = strata::triangulate(raw, paper);
+  ASSERT_EQ(r.regionAreas.size(), 2u);
+
+  // The exact areas: each triangle's part below the curve, tooth by tooth.
+  double modelBelow = 0.0;
+  for (std::size_t i = 0; i + 1 < zigzag.size(); ++i)
+  {
+    modelBelow += 0.5 * (zigzag[i + 1].x - zigzag[i].x) * (zigzag[i].y + zigzag[i + 1].y);
+  }
+  const double model[2] = { modelBelow, 6000.0 - modelBelow };
+  double mesh[2] = { 0.0, 0.0 }, common[2] = { 0.0, 0.0 };
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const std::vector<Vec2> tri = { r.points[r.triangles[t][0]] + r.origin,
+      r.points[r.triangles[t][1]] + r.origin,
+      r.points[r.triangles[t][2]] + r.origin };
+    double inside = 0.0; // below the curve
+    for (std::size_t i = 0; i + 1 < zigzag.size(); ++i)
+    {
+      const double x0 = zigzag[i].x, x1 = zigzag[i + 1].x;
+      std::vector<Vec2> piece = clippedLeftOf(tri, { x0, 1.0 }, { x0, 0.0 });
+      piece = clippedLeftOf(piece, { x1, 0.0 }, { x1, 1.0 });
+      piece = clippedLeftOf(piece, zigzag[i + 1], zigzag[i]);
+      inside += polygonArea(piece);
+    }
+    const int region = r.regionId[t];
+    ASSERT_TRUE(region == 0 || region == 1);
+    mesh[region] += polygonArea(tri);
+    common[region] += region == 0 ? inside : polygonArea(tri) - inside;
+  }
+  double largest = 0.0;
+  for (const strata::MesherResult::RegionArea& ra : r.regionAreas)
+  {
+    const int k = ra.id;
+    const double exact = mesh[k] + model[k] - 2.0 * common[k];
+    EXPECT_NEAR(ra.model, model[k], 1e-9 * model[k]);
+    EXPECT_NEAR(ra.mesh, mesh[k], 1e-9 * model[k]);
+    EXPECT_GT(exact, 0.002 * model[k]) << "region " << k; // the mesh cuts across teeth
+    EXPECT_NEAR(ra.misplaced, exact, 0.01 * exact) << "region " << k;
+    EXPECT_LT(std::fabs(ra.mesh - ra.model), 0.5 * exact) << "region " << k;
+    largest = std::max(largest, exact / model[k]);
+  }
+  EXPECT_NEAR(r.summary.maxRegionMisplacedArea, largest, 0.01 * largest);
+  EXPECT_GE(r.summary.maxRegionMisplacedArea, r.summary.maxRegionAreaError);
+}
+
+// A layer's tip about a finest edge thick at the automatic LocalMaxLevel 14
+// (pinchout_tip_section.vtp, f1403 of random_faulted_sections.py 1400 1424). The mesh with the
+// thin layer refinement, kept over the one without (0.54% net), loses the tip, 0.54% of region
+// 1's area, and adds 0.10% elsewhere: 0.44% net, within issue 5's 0.5%, but 0.63% misplaced,
+// as the independent checker measures it. The misplaced area is a miss too, so the mesh is made
+// again 4 levels finer, and that one is kept: 0.10% misplaced.
+TEST(MesherTest, ARegionWhoseLossAndGainCancelOutIsMadeFinerForItsMisplacedArea)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("pinchout_tip_section.vtp"));
+  strata::MesherParams thin;
+  thin.thinLayerRetry = false;
+  thin.grid.thinLayerRefinement = true;
+  const strata::MesherResult first = strata::triangulate(raw, thin);
+  EXPECT_EQ(first.summary.localMaxLevel, 14);
+  EXPECT_LE(first.summary.maxRegionAreaError, 0.005);
+  EXPECT_GT(first.summary.maxRegionMisplacedArea, 0.006);
+
+  expectMadeAgainFinerAtThirty("pinchout_tip_section.vtp",
+    18,
+    { "the mesh at LocalMaxLevel 14 had 0.63% of a region's area misplaced (0.44% net), so it "
+      "was made again at LocalMaxLevel 18",
+      "the finer one is kept" });
 }
 
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,

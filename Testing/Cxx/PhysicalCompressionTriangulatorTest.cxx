@@ -183,6 +183,10 @@ TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says
   EXPECT_EQ(fd->GetArray("ThinLayerMesh")->GetTuple1(0), 1.0);
   EXPECT_GE(fd->GetArray("MinimumAngle")->GetTuple1(0), 29.95);
   EXPECT_LE(fd->GetArray("MaxRegionAreaError")->GetTuple1(0), 0.005);
+  ASSERT_NE(fd->GetArray("MaxRegionMisplacedArea"), nullptr);
+  EXPECT_LE(fd->GetArray("MaxRegionMisplacedArea")->GetTuple1(0), 0.005);
+  EXPECT_GE(fd->GetArray("MaxRegionMisplacedArea")->GetTuple1(0),
+    fd->GetArray("MaxRegionAreaError")->GetTuple1(0));
   for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
   {
     ASSERT_GT(SignedArea(mesh, c), 0.0) << "triangle " << c;

@@ -249,7 +249,8 @@ int main(int argc, char** argv)
                 " \"max_boundary_deviation\": %.6g, \"max_relative_deviation\": %.4g,\n"
                 " \"relative_deviation_edge\": %.4g,\n"
                 " \"max_boundary_vertex_distance\": %.3g,\n"
-                " \"max_region_area_error_pct\": %.4f, \"finest_edge_length\": %.6g,\n"
+                " \"max_region_area_error_pct\": %.4f, \"max_region_misplaced_area_pct\": %.4f,\n"
+                " \"finest_edge_length\": %.6g,\n"
                 " \"iterations\": %d, \"seconds\": %.4f,\n"
                 " \"boundary_splits\": %zu, \"triangles_at_sharp_corners\": %zu,\n"
                 " \"triangles_below_minimum_angle\": %zu,\n"
@@ -267,6 +268,7 @@ int main(int argc, char** argv)
       s.relativeDeviationEdge,
       s.maxBoundaryVertexDistance,
       100.0 * s.maxRegionAreaError,
+      100.0 * s.maxRegionMisplacedArea,
       s.finestEdgeLength,
       s.iterations,
       s.totalSeconds,
