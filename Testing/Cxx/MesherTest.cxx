@@ -1601,12 +1601,15 @@ TEST(MesherTest, KeptSharpCornersReachTheirApexAsRungsOfTheirRegion)
 
 namespace
 {
-// The model Data/`file` and its mesh made once (ThinLayerRetry off).
-std::pair<strata::RawPolylines, strata::MesherResult> madeOnce(const char* file)
+// The model Data/`file` and its mesh made once (ThinLayerRetry off), with ThinLayerRefinement
+// when `thinLayers`.
+std::pair<strata::RawPolylines, strata::MesherResult> madeOnce(const char* file,
+  bool thinLayers = false)
 {
   strata::RawPolylines raw = strata_test::readVtpAscii(strata_test::dataPath(file));
   strata::MesherParams once;
   once.thinLayerRetry = false;
+  once.grid.thinLayerRefinement = thinLayers;
   strata::MesherResult r = strata::triangulate(raw, once);
   return { std::move(raw), std::move(r) };
 }
@@ -2509,12 +2512,7 @@ TEST(MesherTest, TheMisplacedAreaIsTheSymmetricDifferenceOfTheMeshAndTheModel)
 // again 4 levels finer, and that one is kept: 0.10% misplaced.
 TEST(MesherTest, ARegionWhoseLossAndGainCancelOutIsMadeFinerForItsMisplacedArea)
 {
-  const strata::RawPolylines raw =
-    strata_test::readVtpAscii(strata_test::dataPath("pinchout_tip_section.vtp"));
-  strata::MesherParams thin;
-  thin.thinLayerRetry = false;
-  thin.grid.thinLayerRefinement = true;
-  const strata::MesherResult first = strata::triangulate(raw, thin);
+  const auto [raw, first] = madeOnce("pinchout_tip_section.vtp", true);
   EXPECT_EQ(first.summary.localMaxLevel, 14);
   EXPECT_LE(first.summary.maxRegionAreaError, 0.005);
   EXPECT_GT(first.summary.maxRegionMisplacedArea, 0.006);
