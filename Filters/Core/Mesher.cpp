@@ -502,9 +502,12 @@ constexpr double kRetryMarginScale = 0.5;
 // the approximated boundary's vertices).
 constexpr double kOnCurve = 1e-9;
 // The misplaced areas' slabs (misplacedAreas()): at most this many across each axis, about
-// this many finest edges wide.
+// this many finest edges wide, and at most kSlabCells per axis over all regions (a map of many
+// countries gets fewer, wider slabs, down to kMinSlabs).
 constexpr std::size_t kSlabs = 4096;
 constexpr double kSlabWidth = 2.0;
+constexpr std::size_t kSlabCells = std::size_t(1) << 20;
+constexpr std::size_t kMinSlabs = 64;
 // ThinLayerRetry: a first mesh below min(MinimumAngle, this) - kRetryAngleSlack degrees, or
 // with a region's area off by more than kAreaBound, is made again (see triangulate()).
 constexpr double kThinLayerRetryAngle = 30.0;
@@ -1444,8 +1447,9 @@ struct SlabAreas
 //   the left region's in the mesh and the right one's in the model, and the other way round;
 //   what they leave unexplained of a region's net difference (a layer's tip cut off by an edge
 //   joining two curves, a piece lost whole) counts whole;
-// - the net differences in slabs across x, kSlabs at most, about two finest edges wide
-//   (`finest`), added up without their signs: a loss at one place and a gain at another then
+// - the net differences in slabs across x, kSlabs at most (fewer with many regions), about two
+//   finest edges wide (`finest`), added up without their signs: a loss at one place and a gain
+//   at another then
 //   no longer make up for each other (f1403 of random_faulted_sections.py 1400 1424: a layer's
 //   tip lost, 0.54% of its area, and 0.10% added elsewhere, 0.44% net);
 // - the same in slabs across y.
@@ -1484,8 +1488,10 @@ std::vector<double> misplacedAreas(const Model& model,
   {
     SlabAreas& sl = slabs[axis];
     const double lo = axis == 0 ? box.min.x : box.min.y, hi = axis == 0 ? box.max.x : box.max.y;
+    const std::size_t most =
+      std::min(kSlabs, std::max(kMinSlabs, kSlabCells / std::max<std::size_t>(nr, 1)));
     sl.n = static_cast<std::size_t>(
-      std::clamp(std::ceil((hi - lo) / (kSlabWidth * finest)), 1.0, static_cast<double>(kSlabs)));
+      std::clamp(std::ceil((hi - lo) / (kSlabWidth * finest)), 1.0, static_cast<double>(most)));
     sl.lo = lo;
     sl.width = std::max(hi - lo, 1e-300) / static_cast<double>(sl.n);
     sl.net.assign(nr * sl.n, 0.0);
