@@ -33,26 +33,22 @@
  * area), `MaxRegionMisplacedArea` (relative: the largest misplaced area, lost plus added,
  * over a region's model area; the symmetric difference of the region's triangles and its
  * model region, which a loss at one place and a gain at another do not cancel; at least
- * `MaxRegionAreaError`; ThinLayerRetry holds both to 0.5%), `FinestEdgeLength` (model units:
- * MinimumEdgeLength when
- * set, else the automatic finest edge), `Iterations`, `BoundarySplits`, `RefinementVertices`
- * (vertices the Delaunay refinement inserted), `CurveVertices` (the curve recovery's),
- * `UnresolvedRegions` (ids
- * of the regions keeping less than half their area, also named in a warning),
- * `BrokenRegions` (ids of the regions the mesh cuts into more pieces than the model has,
- * where a layer is thinner than the finest triangles, or leaves with fewer; also named in a
- * warning),
- * `TrianglesAtSharpCorners` (triangles below 25 degrees at an input corner sharper than
- * that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below MinimumAngle by more
- * than 0.05 degrees that neither an input corner nor a kept one forces; a warning names the
- * worst one's angle, region and place), `MinimumAngleUnforced` (degrees: the smallest angle
- * of the other triangles, neither an input corner nor a kept one forcing them; 180 without
- * any), `LocalMaxLevel` (the level the mesh was made with),
- * with KeepSharpCorners `KeptCorners` and `KeptCornerTriangles`, `ThinLayerMesh` (1
- * when the mesh was made with the grid's thin layer refinement: ThinLayerRefinement on, or
- * ThinLayerRetry's second mesh kept; when a second mesh was made, `SecondsDiscardedRun` times
- * the one not kept), and `Seconds<Stage>` per stage. `Displacement` is 0 at vertices the
- * optimization inserted.
+ * `MaxRegionAreaError`; ThinLayerRetry makes a mesh again when either is above 0.5%),
+ * `FinestEdgeLength` (model units: MinimumEdgeLength when set, else the automatic finest edge),
+ * `Iterations`, `BoundarySplits`, `RefinementVertices` (vertices the Delaunay refinement inserted),
+ * `CurveVertices` (the curve recovery's), `UnresolvedRegions` (ids of the regions keeping less than
+ * half their area, also named in a warning), `BrokenRegions` (ids of the regions the mesh cuts into
+ * more pieces than the model has, where a layer is thinner than the finest triangles, or leaves
+ * with fewer; also named in a warning), `TrianglesAtSharpCorners` (triangles below 25 degrees at an
+ * input corner sharper than that), `TrianglesBelowMinimumAngle` (with Optimization: triangles below
+ * MinimumAngle by more than 0.05 degrees that neither an input corner nor a kept one forces; a
+ * warning names the worst one's angle, region and place), `MinimumAngleUnforced` (degrees: the
+ * smallest angle of the other triangles, neither an input corner nor a kept one forcing them; 180
+ * without any), `LocalMaxLevel` (the level the mesh was made with), with KeepSharpCorners
+ * `KeptCorners` and `KeptCornerTriangles`, `ThinLayerMesh` (1 when the mesh was made with the
+ * grid's thin layer refinement: ThinLayerRefinement on, or ThinLayerRetry's second mesh kept; when
+ * a second mesh was made, `SecondsDiscardedRun` times the one not kept), and `Seconds<Stage>` per
+ * stage. `Displacement` is 0 at vertices the optimization inserted.
  *
  * Output port 1: the approximated boundary (edges whose two triangles have different
  * regions, and the outer border) as polylines in the Shared curves form, with cell arrays

@@ -137,10 +137,11 @@ struct MesherResult
   /// its model area other triangles cover (the symmetric difference of the two, which the
   /// independent checker measures; the net difference mesh - model may hide it, a loss in one
   /// place making up for a gain in another). model units^2. The misplaced area is estimated
-  /// from the approximated boundary: the pieces between each boundary edge with both ends on a
-  /// curve of its two regions and the stretch of the curve it stands for, plus what these leave
-  /// unexplained of the net difference (a layer's tip cut off by an edge across it, a piece
-  /// lost whole).
+  /// from the approximated boundary, as the largest of three lower bounds: the pieces between
+  /// each boundary edge with both ends on a curve of its two regions and the stretch of the
+  /// curve it stands for, plus what these leave unexplained of the net difference (a layer's
+  /// tip cut off by an edge across it, a piece lost whole); the net differences in slabs across
+  /// x, and across y, about two finest edges wide, added up without their signs.
   struct RegionArea
   {
     int id = -1;
@@ -214,7 +215,8 @@ struct MesherResult
     /// Largest |mesh area - model area| / model area over the regions.
     double maxRegionAreaError = 0.0;
     /// Largest misplaced area (RegionArea::misplaced) / model area over the regions: at least
-    /// maxRegionAreaError. MesherParams::thinLayerRetry holds both to issue 5's 0.5%.
+    /// maxRegionAreaError. MesherParams::thinLayerRetry makes a mesh again when either is above
+    /// issue 5's 0.5%.
     double maxRegionMisplacedArea = 0.0;
     /// The finest edge length the mesh aims at (model units): the refinement's
     /// minimumEdgeLength when set, else grid.minEdgeLength (the user's MinimumEdgeLength), else
