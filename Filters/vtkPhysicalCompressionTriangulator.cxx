@@ -23,6 +23,7 @@
 
 #include <cctype>
 #include <exception>
+#include <vector>
 
 vtkStandardNewMacro(vtkPhysicalCompressionTriangulator);
 
@@ -251,6 +252,22 @@ int vtkPhysicalCompressionTriangulator::RequestData(vtkInformation*,
     broken->InsertNextValue(id);
   }
   fd->AddArray(broken);
+  // Each region's areas, in the model's order of regions.
+  std::vector<int> regionIds;
+  std::vector<double> modelAreas, meshAreas, misplacedAreas;
+  for (const strata::MesherResult::RegionArea& ra : result.regionAreas)
+  {
+    regionIds.push_back(ra.id);
+    modelAreas.push_back(ra.model);
+    meshAreas.push_back(ra.mesh);
+    misplacedAreas.push_back(ra.misplaced);
+  }
+  const std::size_t regions = regionIds.size();
+  fd->AddArray(vtkStrataMeshOutput::MakeArray("RegionIds", regionIds.data(), regions));
+  fd->AddArray(vtkStrataMeshOutput::MakeArray("RegionModelArea", modelAreas.data(), regions));
+  fd->AddArray(vtkStrataMeshOutput::MakeArray("RegionMeshArea", meshAreas.data(), regions));
+  fd->AddArray(
+    vtkStrataMeshOutput::MakeArray("RegionMisplacedArea", misplacedAreas.data(), regions));
   for (const auto& [stage, seconds] : s.secondsPerStage)
   {
     vtkStrataMeshOutput::AddField(fd, StageFieldName(stage).c_str(), seconds);

@@ -36,7 +36,10 @@
  * `MaxRegionAreaError`; ThinLayerRetry makes a mesh again when either is above 0.5%),
  * `FinestEdgeLength` (model units: MinimumEdgeLength when set, else the automatic finest edge),
  * `Iterations`, `BoundarySplits`, `RefinementVertices` (vertices the Delaunay refinement inserted),
- * `CurveVertices` (the curve recovery's), `UnresolvedRegions` (ids of the regions keeping less than
+ * `CurveVertices` (the curve recovery's), `RegionIds`, `RegionModelArea`, `RegionMeshArea` and
+ * `RegionMisplacedArea` (one tuple per region of the model, in its order: the region's id, its
+ * area in the model and in the mesh and its misplaced area, lost plus added, model units
+ * squared), `UnresolvedRegions` (ids of the regions keeping less than
  * half their area, also named in a warning), `BrokenRegions` (ids of the regions the mesh cuts into
  * more pieces than the model has, where a layer is thinner than the finest triangles, or leaves
  * with fewer; also named in a warning), `TrianglesAtSharpCorners` (triangles below 25 degrees at an

@@ -187,6 +187,34 @@ TEST(PhysicalCompressionTriangulatorTest, thin_layer_refinement_refines_and_says
   EXPECT_LE(fd->GetArray("MaxRegionMisplacedArea")->GetTuple1(0), 0.005);
   EXPECT_GE(fd->GetArray("MaxRegionMisplacedArea")->GetTuple1(0),
     fd->GetArray("MaxRegionAreaError")->GetTuple1(0));
+  // Each region's areas: its triangles' areas add up to its mesh area, its misplaced area is
+  // at least its net difference, and the largest over the model area is the summary's.
+  vtkDataArray* ids = fd->GetArray("RegionIds");
+  vtkDataArray* modelArea = fd->GetArray("RegionModelArea");
+  vtkDataArray* meshArea = fd->GetArray("RegionMeshArea");
+  vtkDataArray* misplaced = fd->GetArray("RegionMisplacedArea");
+  ASSERT_TRUE(ids && modelArea && meshArea && misplaced);
+  ASSERT_GT(ids->GetNumberOfTuples(), 1);
+  ASSERT_EQ(modelArea->GetNumberOfTuples(), ids->GetNumberOfTuples());
+  ASSERT_EQ(meshArea->GetNumberOfTuples(), ids->GetNumberOfTuples());
+  ASSERT_EQ(misplaced->GetNumberOfTuples(), ids->GetNumberOfTuples());
+  std::map<int, double> summed;
+  vtkDataArray* regionOf = mesh->GetCellData()->GetArray("RegionId");
+  vtkDataArray* areaOf = mesh->GetCellData()->GetArray("Area");
+  for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
+  {
+    summed[static_cast<int>(regionOf->GetTuple1(c))] += areaOf->GetTuple1(c);
+  }
+  double largest = 0.0;
+  for (vtkIdType i = 0; i < ids->GetNumberOfTuples(); ++i)
+  {
+    const int id = static_cast<int>(ids->GetTuple1(i));
+    const double model = modelArea->GetTuple1(i), inMesh = meshArea->GetTuple1(i);
+    EXPECT_NEAR(inMesh, summed[id], 1e-9 * model) << "region " << id;
+    EXPECT_GE(misplaced->GetTuple1(i), std::fabs(inMesh - model) * (1.0 - 1e-9)) << "region " << id;
+    largest = std::max(largest, misplaced->GetTuple1(i) / model);
+  }
+  EXPECT_NEAR(fd->GetArray("MaxRegionMisplacedArea")->GetTuple1(0), largest, 1e-12);
   for (vtkIdType c = 0; c < mesh->GetNumberOfCells(); ++c)
   {
     ASSERT_GT(SignedArea(mesh, c), 0.0) << "triangle " << c;

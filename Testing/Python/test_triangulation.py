@@ -335,6 +335,16 @@ class TriangulationTest(unittest.TestCase):
             "pinchout_tip_section.vtp", ThinLayerRetry=0, ThinLayerRefinement=1)
         self.assertLessEqual(field(once, "MaxRegionAreaError"), 0.005)
         self.assertGreater(field(once, "MaxRegionMisplacedArea"), 0.006)
+        # Per region: the worst is region 1, whose loss and gain cancel out in the net area.
+        ids, model, mesh, misplaced = (
+            np.asarray(once.FieldData[name]).ravel()
+            for name in ("RegionIds", "RegionModelArea", "RegionMeshArea", "RegionMisplacedArea"))
+        worst = int(np.argmax(misplaced / model))
+        self.assertEqual(ids[worst], 1)
+        self.assertAlmostEqual(
+            misplaced[worst] / model[worst], field(once, "MaxRegionMisplacedArea"), places=12)
+        self.assertGreater(misplaced[worst], 1.3 * abs(mesh[worst] - model[worst]))
+        self.assertTrue(np.all(misplaced >= np.abs(mesh - model) * (1.0 - 1e-9)))
         self.assertEqual(field(default, "LocalMaxLevel"), field(once, "LocalMaxLevel") + 4)
         self.assertLessEqual(field(default, "MaxRegionMisplacedArea"), 0.005)
         self.assertGreaterEqual(
