@@ -4,7 +4,7 @@
                                    [--out out] [--max-level -1]
 
 Writes <out>/<model>_mesh.vtu (triangles with RegionId and quality arrays) and prints a
-summary. Defaults come from the environment: STRATAMESH_PLUGIN (path of StrataMesh.so; not
+summary and each region's areas. Defaults come from the environment: STRATAMESH_PLUGIN (path of StrataMesh.so; not
 needed when PV_PLUGIN_PATH already loads the plugin), STRATAMESH_DATA (folder of the models,
 else the repository's Data/), STRATAMESH_OUT (output folder, else out/). Exit code 0 when a
 mesh was written, 1 otherwise (VTK prints the reason).
@@ -61,6 +61,16 @@ def main():
     print("%s -> %s: %d triangles, %d vertices, regions %d..%d, smallest angle %.1f deg"
           % (args.model, vtu, info.GetNumberOfCells(), info.GetNumberOfPoints(),
              regions[0], regions[1], angles[0]))
+    # Each region's area in the model and in the mesh, and its misplaced area (lost plus
+    # added, which a loss at one place and a gain at another do not cancel).
+    fd = simple.servermanager.Fetch(mesh).GetFieldData()
+    columns = [fd.GetArray(name) for name in
+               ("RegionIds", "RegionModelArea", "RegionMeshArea", "RegionMisplacedArea")]
+    print("region  model area      mesh area       net      misplaced")
+    for i in range(columns[0].GetNumberOfTuples()):
+        rid, area, meshed, misplaced = (c.GetTuple1(i) for c in columns)
+        print("%6d  %-14.6g  %-14.6g  %+7.3f%%  %7.3f%%"
+              % (rid, area, meshed, 100.0 * (meshed - area) / area, 100.0 * misplaced / area))
     return 0
 
 
