@@ -1436,11 +1436,11 @@ struct SlabAreas
   }
 };
 
-// Each region's misplaced area (model units^2, in the order of `areas`, which holds the
-// regions' model and mesh areas): what its triangles cover that the model gives another region
-// or the exterior, plus what of its model area other triangles cover. That is the symmetric
-// difference of its mesh and its model, which the independent checker measures; the net
-// difference (mesh - model) may hide it, a loss in one place making up for a gain in another.
+// Sets each region's misplaced area (RegionArea::misplaced, model units^2; `areas` holds the
+// regions' model and mesh areas, in the model's order): what its triangles cover that the model
+// gives another region or the exterior, plus what of its model area other triangles cover. That is
+// the symmetric difference of its mesh and its model, which the independent checker measures; the
+// net difference (mesh - model) may hide it, a loss in one place making up for a gain in another.
 // It is estimated from the approximated boundary, as the largest of three lower bounds:
 // - an edge with its ends on a curve between its two regions stands for a stretch of that
 //   curve (edgeStretch()), and the pieces between the two are misplaced, those left of the edge
@@ -1455,10 +1455,10 @@ struct SlabAreas
 // - the same in slabs across y.
 // `closest` gives the curve point nearest a point (as BoundaryRails::closest()).
 template<typename Closest>
-std::vector<double> misplacedAreas(const Model& model,
+void misplacedAreas(const Model& model,
   const BoundaryRails& rails,
   const std::vector<MesherResult::BoundaryCurve>& boundary,
-  const std::vector<MesherResult::RegionArea>& areas,
+  std::vector<MesherResult::RegionArea>& areas,
   double tolerance,
   double finest,
   Closest&& closest,
@@ -1466,24 +1466,24 @@ std::vector<double> misplacedAreas(const Model& model,
 {
   const std::size_t nr = areas.size(); // (model.regions' order)
   std::vector<double> pieces(nr, 0.0), explained(nr, 0.0);
-  // The slabs across x, and across y (the points turned by -90 degrees: (y, -x)).
+  // The slabs across x, and across y (the points turned by -90 degrees: (y, -x)), over the
+  // regions' rings.
   Box2 box;
   for (const Region& region : model.regions)
   {
-    for (const Ring& ring : region.rings)
-    {
-      for (const Vec2& p : ring.points)
-      {
-        box.add(p);
-      }
-    }
+    box.add(region.bounds);
   }
   if (box.empty())
   {
-    return std::vector<double>(nr, 0.0);
+    return;
   }
   const auto turned = [](Vec2 p) { return Vec2{ p.y, -p.x }; };
   std::array<SlabAreas, 2> slabs;
+  const auto addToSlabs = [&](std::size_t row, Vec2 p, Vec2 q, double sign)
+  {
+    slabs[0].add(row, p, q, sign);
+    slabs[1].add(row, turned(p), turned(q), sign);
+  };
   for (int axis = 0; axis < 2; ++axis)
   {
     SlabAreas& sl = slabs[axis];
@@ -1503,9 +1503,7 @@ std::vector<double> misplacedAreas(const Model& model,
     {
       for (std::size_t i = 0; i < ring.points.size(); ++i)
       {
-        const Vec2 p = ring.points[i], q = ring.points[(i + 1) % ring.points.size()];
-        slabs[0].add(r, p, q, -1.0);
-        slabs[1].add(r, turned(p), turned(q), -1.0);
+        addToSlabs(r, ring.points[i], ring.points[(i + 1) % ring.points.size()], -1.0);
       }
     }
   }
@@ -1525,8 +1523,7 @@ std::vector<double> misplacedAreas(const Model& model,
       {
         if (r >= 0)
         {
-          slabs[0].add(static_cast<std::size_t>(r), a, b, sign);
-          slabs[1].add(static_cast<std::size_t>(r), turned(a), turned(b), sign);
+          addToSlabs(static_cast<std::size_t>(r), a, b, sign);
         }
       }
       const BoundaryRails::Location m = closest(0.5 * (a + b));
@@ -1577,10 +1574,10 @@ std::vector<double> misplacedAreas(const Model& model,
       }
     }
   }
-  std::vector<double> misplaced(nr, 0.0);
   for (std::size_t r = 0; r < nr; ++r)
   {
-    misplaced[r] = pieces[r] + std::fabs(areas[r].mesh - areas[r].model - explained[r]);
+    double& misplaced = areas[r].misplaced;
+    misplaced = pieces[r] + std::fabs(areas[r].mesh - areas[r].model - explained[r]);
     for (const SlabAreas& sl : slabs)
     {
       double sum = 0.0;
@@ -1588,10 +1585,9 @@ std::vector<double> misplacedAreas(const Model& model,
       {
         sum += std::fabs(sl.net[r * sl.n + k]);
       }
-      misplaced[r] = std::max(misplaced[r], sum);
+      misplaced = std::max(misplaced, sum);
     }
   }
-  return misplaced;
 }
 
 // The directed edges of a triangle mesh by start vertex (CSR): out[start[a] .. start[a + 1])
@@ -3035,27 +3031,21 @@ MesherResult triangulateOnce(const RawPolylines& input,
       result.regionAreas[index].mesh += result.area[t];
     }
   }
-  {
-    const std::vector<double> misplaced = misplacedAreas(
-      model,
-      rails,
-      result.boundary,
-      result.regionAreas,
-      16.0 * kOnCurve * model.size(),
-      result.summary.finestEdgeLength,
-      [&](Vec2 p)
-      {
-        NearestSegment near;
-        return railCells.nearest(p, 2.0 * cell, near) && near.segment >= 0
-          ? rails.location(near.segment, near.t)
-          : rails.closest(p, scratch);
-      },
-      progress);
-    for (std::size_t r = 0; r < misplaced.size(); ++r)
+  misplacedAreas(
+    model,
+    rails,
+    result.boundary,
+    result.regionAreas,
+    16.0 * kOnCurve * model.size(),
+    result.summary.finestEdgeLength,
+    [&](Vec2 p)
     {
-      result.regionAreas[r].misplaced = misplaced[r];
-    }
-  }
+      NearestSegment near;
+      return railCells.nearest(p, 2.0 * cell, near) && near.segment >= 0
+        ? rails.location(near.segment, near.t)
+        : rails.closest(p, scratch);
+    },
+    progress);
   std::string unresolved, offArea;
   for (const MesherResult::RegionArea& ra : result.regionAreas)
   {
