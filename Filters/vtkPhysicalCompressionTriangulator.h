@@ -329,8 +329,10 @@ public:
    *   on a curve) is kept. Between equals: the larger smallest angle
    *   (up to 30 degrees), or for an area miss the smaller area error, for the pieces fewer
    *   regions cut, for the boundary the smaller deviation, none of the others worse.
-   * A warning gives every mesh's figures. With KeepSharpCorners the smallest angle here is the
-   * one away from the kept corners (field `MinimumAngleUnforced`).
+   * A warning gives every mesh's figures. In the finer levels' steps the smallest angle is that
+   * of the triangles no input corner forces (field `MinimumAngleUnforced`; with
+   * KeepSharpCorners no kept corner either): a triangle at a sharp input corner does not hide
+   * the misses beside it. With KeepSharpCorners the thin layer step judges it so too.
    */
   vtkSetMacro(ThinLayerRetry, vtkTypeBool);
   vtkGetMacro(ThinLayerRetry, vtkTypeBool);

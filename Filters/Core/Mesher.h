@@ -85,8 +85,9 @@ struct MesherParams
   /// are made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
   /// the mesh without it the second, whatever this says. Then, with the automatic levels
   /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a
-  /// minimumAngle of 25 or more and no input corner sharper than 25 degrees met by a small
-  /// angle: a mesh still below 25 degrees (layers about a finest edge thick), or with a
+  /// minimumAngle of 25 or more: a mesh whose triangles that no input corner forces
+  /// (Summary::minAngleUnforced) are still below 25 degrees (layers about a finest edge thick;
+  /// a triangle at a sharp input corner does not hide them since 2026-12-07), or with a
   /// region's area still off by more than 0.5%, or (with grid.maxLevel automatic too) with a
   /// region cut into more pieces than the model has or left with fewer
   /// (MesherResult::brokenRegions) or its Summary::maxRelativeDeviation still above 0.5, or
@@ -100,8 +101,8 @@ struct MesherParams
   /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
   /// once more. A finer mesh not kept that cuts a region as the kept one does (a neck narrower
   /// than both meshes' triangles) leads to the next of these steps too, compared with the kept
-  /// one. With keepSharpCorners these smallest angles are those away from the
-  /// kept corners (Summary::minAngleUnforced; the wedges keep the input's). Default on.
+  /// one. These smallest angles are Summary::minAngleUnforced: off the input's sharp corners and,
+  /// with keepSharpCorners, off the kept corners (the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };
 

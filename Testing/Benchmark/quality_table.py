@@ -186,7 +186,11 @@ def narrow(x, seg, P, Q, width):
     side nearer than the self-hit margin below)."""
     length = float(np.linalg.norm(Q[seg] - P[seg]))
     x = x + 1e-4 * min(1.0, 100.0 * width / max(length, 1e-300)) * (0.5 * (P[seg] + Q[seg]) - x)
-    scale = 1.0 + np.abs(x).max()
+    # The self-hit margin: 1e-9 of the model's size, and a few units in the last place of
+    # coordinates far from the origin. (Until 2026-12-07 1e-9 of 1 + |x|: a star's spike 0.004
+    # wide placed 5e5 units off the origin had a margin of 5e-4, as wide as its finest edge, and
+    # its tip, narrower than that, was not found exempt.)
+    margin = 1e-9 * float(np.ptp(np.concatenate([P, Q]), axis=0).max()) + 1e-15 * np.abs(x).max()
     # The segment itself, and its twin in the other region's ring (the Loops form).
     same = (np.all(P == P[seg], axis=1) & np.all(Q == Q[seg], axis=1)) | \
         (np.all(P == Q[seg], axis=1) & np.all(Q == P[seg], axis=1))
@@ -202,7 +206,7 @@ def narrow(x, seg, P, Q, width):
         ok = np.abs(den) > 1e-300
         s = np.where(ok, (w[:, 0] * e[:, 1] - w[:, 1] * e[:, 0]) / np.where(ok, den, 1), np.inf)
         r = np.where(ok, (w[:, 0] * n[1] - w[:, 1] * n[0]) / np.where(ok, den, 1), -1)
-        hit = ok & (r >= 0) & (r <= 1) & (s > 1e-9 * scale)
+        hit = ok & (r >= 0) & (r <= 1) & (s > margin)
         hit[same] = False
         if hit.any() and float(s[hit].min()) < width:
             return True

@@ -2524,6 +2524,71 @@ TEST(MesherTest, ARegionWhoseLossAndGainCancelOutIsMadeFinerForItsMisplacedArea)
       "the finer one is kept" });
 }
 
+// A region whose triangles cover its model area within 10% but leave more than 10% of it out of
+// place is named in a warning, with the area lost plus added (the net difference's warning does
+// not see it). A layer 3 units thick between two zigzag curves (teeth 1.5 units up and down, 5
+// apart) across a section 100 x 60, meshed by the paper's method on a grid coarser than its teeth.
+TEST(MesherTest, ARegionWhoseTrianglesLieOutOfPlaceIsNamedEvenWhenItsAreaIsRight)
+{
+  std::vector<Vec2> lower, upper;
+  for (int i = 0; i <= 20; ++i)
+  {
+    lower.push_back({ 5.0 * i, i % 2 ? 31.5 : 28.5 });
+    upper.push_back({ 5.0 * i, i % 2 ? 34.5 : 31.5 });
+  }
+  strata::RawPolylines raw;
+  std::vector<Vec2> below = { { 0, 0 }, { 100, 0 } }, layer = lower, above = upper;
+  below.insert(below.end(), lower.rbegin(), lower.rend());
+  layer.insert(layer.end(), upper.rbegin(), upper.rend());
+  above.insert(above.end(), { { 100, 60 }, { 0, 60 } });
+  strata_test::addLoop(raw, below, 0);
+  strata_test::addLoop(raw, layer, 1);
+  strata_test::addLoop(raw, above, 2);
+  strata::MesherParams paper;
+  paper.compression.optimize = false;
+  paper.grid.maxLevel = 8;
+  const strata::MesherResult r = strata::triangulate(raw, paper);
+  ASSERT_EQ(r.regionAreas.size(), 3u);
+  const strata::MesherResult::RegionArea& thin = r.regionAreas[1];
+  ASSERT_EQ(thin.id, 1);
+  EXPECT_LE(std::fabs(thin.mesh - thin.model), 0.1 * thin.model);
+  EXPECT_GT(thin.misplaced, 0.1 * thin.model);
+  const std::string warnings = allWarnings(r);
+  char expected[64];
+  std::snprintf(expected,
+    sizeof(expected),
+    "(region id and area lost plus added): 1 (%d%%)",
+    static_cast<int>(std::lround(100.0 * thin.misplaced / thin.model)));
+  EXPECT_NE(warnings.find(expected), std::string::npos) << expected << "\n" << warnings;
+  EXPECT_EQ(warnings.find("more than 10% off their model area"), std::string::npos) << warnings;
+}
+
+// Ten layers pinching out at one point of a section's base, 0.66 to 3.07 degrees apart
+// (fan_apex_section.vtp, fan002 of random_junction_models.py 0 8). At LocalMaxLevel 18 the mesh
+// has a triangle whose smallest angle sits on the apex, a sharp input corner that forces it, and
+// triangles near the apex that no corner forces, down to 15.88 degrees. Those still miss the
+// angle: the mesh is made again 2 levels finer and kept for its larger smallest angle off the
+// corners (18.96 degrees), with its boundary within half a local edge (0.35; 0.88 at 18). Until
+// 2026-12-07 a triangle at a sharp corner hid the mesh's other angle misses from ThinLayerRetry,
+// and the mesh at 18 was kept.
+TEST(MesherTest, ATriangleAtASharpCornerDoesNotHideTheAngleMissesAwayFromIt)
+{
+  const auto [raw, r] = madeByDefault("fan_apex_section.vtp");
+  EXPECT_EQ(r.summary.localMaxLevel, 20);
+  EXPECT_GT(r.summary.minAngleUnforced, 18.0);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
+  const std::string warnings = allWarnings(r);
+  for (const char* text :
+    { "at LocalMaxLevel 18 (smallest 15.88 degrees off the sharp input corners,",
+      "it had triangles below 25 degrees (smallest 15.88 off the sharp input corners), so it was "
+      "made again at LocalMaxLevel 20",
+      "the third one is kept" })
+  {
+    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
+  }
+}
+
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
 // LocalMaxLevel 14 automatic): the mesh made once keeps triangles below 25 degrees that no input
 // corner forces (7.9 degrees). They are counted (those whose smallest angle sits on a model
