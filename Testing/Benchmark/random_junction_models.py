@@ -24,11 +24,11 @@ import os
 import sys
 
 import numpy as np
-import vtk
 from shapely.geometry import LineString, Point, Polygon, box
 from shapely.ops import polygonize, unary_union
 
-from random_sections import write_vtp  # same folder
+from random_faulted_sections import polydata  # same folder
+from random_sections import write_vtp
 
 
 def faces_inside(lines, domain):
@@ -131,32 +131,6 @@ def comb(rng):
 KINDS = {"pie": pie, "fan": fan, "xfault": xfault, "dyke": dyke, "star": star, "comb": comb}
 
 
-def write(path, name, source, loops, ids):
-    """ASCII VTK XML PolyData, one closed polyline per loop, cell array RegionId, field data
-    Name and Source."""
-    pd = vtk.vtkPolyData()
-    points = vtk.vtkPoints()
-    points.SetDataTypeToDouble()
-    lines = vtk.vtkCellArray()
-    for loop in loops:
-        lines.InsertNextCell(len(loop))
-        for x, y in loop:
-            lines.InsertCellPoint(points.InsertNextPoint(x, y, 0.0))
-    pd.SetPoints(points)
-    pd.SetLines(lines)
-    region = vtk.vtkIntArray()
-    region.SetName("RegionId")
-    for i in ids:
-        region.InsertNextValue(int(i))
-    pd.GetCellData().AddArray(region)
-    for key, value in (("Name", name), ("Source", source)):
-        text = vtk.vtkStringArray()
-        text.SetName(key)
-        text.InsertNextValue(value)
-        pd.GetFieldData().AddArray(text)
-    write_vtp(path, pd)
-
-
 def model(kind, seed, path):
     """Writes the model of one kind and seed to path."""
     rng = np.random.default_rng(seed * 100 + len(kind))
@@ -166,11 +140,11 @@ def model(kind, seed, path):
     loops, ids = [], []
     for i, face in enumerate(faces):
         for ring in [face.exterior] + list(face.interiors):
-            loops.append(np.array(ring.coords) * scale + offset)
+            loops.append([tuple(p) for p in np.array(ring.coords) * scale + offset])
             ids.append(i)
-    name = "%s%03d" % (kind, seed)
-    write(path, name, "random_junction_models.py seed %d: %s, %d regions, scale %.4g, offset "
-          "(%.6g, %.6g)" % (seed, kind, len(faces), scale, offset[0], offset[1]), loops, ids)
+    source = "random_junction_models.py seed %d: %s, %d regions, scale %.4g, offset (%.6g, %.6g)" % (
+        seed, kind, len(faces), scale, offset[0], offset[1])
+    write_vtp(path, polydata(loops, [("RegionId", ids)], "%s%03d" % (kind, seed), source))
 
 
 if __name__ == "__main__":

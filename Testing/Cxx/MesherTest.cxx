@@ -2433,6 +2433,46 @@ double polygonArea(const std::vector<Vec2>& poly)
   }
   return 0.5 * sum;
 }
+
+// A section 100 x 60 cut by zigzag curves (teeth 1.5 units up and down, 5 apart) around each of
+// the heights `middles` (increasing), meshed by the paper's method on a grid coarser than its
+// teeth (MaxLevel 8): region 0 below the first curve, region k between curves k - 1 and k.
+// Returns the curves and the mesh.
+std::pair<std::vector<std::vector<Vec2>>, strata::MesherResult> zigzagSection(
+  std::initializer_list<double> middles)
+{
+  std::vector<std::vector<Vec2>> curves;
+  for (double middle : middles)
+  {
+    curves.emplace_back();
+    for (int i = 0; i <= 20; ++i)
+    {
+      curves.back().push_back({ 5.0 * i, middle + (i % 2 ? 1.5 : -1.5) });
+    }
+  }
+  strata::RawPolylines raw;
+  std::vector<Vec2> loop = { { 0, 0 }, { 100, 0 } };
+  for (std::size_t k = 0; k <= curves.size(); ++k)
+  {
+    if (k < curves.size())
+    {
+      loop.insert(loop.end(), curves[k].rbegin(), curves[k].rend());
+    }
+    else
+    {
+      loop.insert(loop.end(), { { 100, 60 }, { 0, 60 } });
+    }
+    strata_test::addLoop(raw, loop, static_cast<int>(k));
+    if (k < curves.size())
+    {
+      loop = curves[k];
+    }
+  }
+  strata::MesherParams paper;
+  paper.compression.optimize = false;
+  paper.grid.maxLevel = 8;
+  return { std::move(curves), strata::triangulate(raw, paper) };
+}
 } // namespace
 
 // RegionArea::misplaced (and Summary::maxRegionMisplacedArea) is the symmetric difference of a
@@ -2444,21 +2484,8 @@ double polygonArea(const std::vector<Vec2>& poly)
 // them.
 TEST(MesherTest, TheMisplacedAreaIsTheSymmetricDifferenceOfTheMeshAndTheModel)
 {
-  std::vector<Vec2> zigzag;
-  for (int i = 0; i <= 20; ++i)
-  {
-    zigzag.push_back({ 5.0 * i, i % 2 ? 31.5 : 28.5 });
-  }
-  strata::RawPolylines raw;
-  std::vector<Vec2> below = { { 0, 0 }, { 100, 0 } }, above = zigzag;
-  below.insert(below.end(), zigzag.rbegin(), zigzag.rend());
-  above.insert(above.end(), { { 100, 60 }, { 0, 60 } });
-  strata_test::addLoop(raw, below, 0);
-  strata_test::addLoop(raw, above, 1);
-  strata::MesherParams paper;
-  paper.compression.optimize = false;
-  paper.grid.maxLevel = 8;
-  const strata::MesherResult r = strata::triangulate(raw, paper);
+  const auto [curves, r] = zigzagSection({ 30.0 });
+  const std::vector<Vec2>& zigzag = curves.front();
   ASSERT_EQ(r.regionAreas.size(), 2u);
 
   // The exact areas: each triangle's part below the curve, tooth by tooth.
@@ -2530,24 +2557,7 @@ TEST(MesherTest, ARegionWhoseLossAndGainCancelOutIsMadeFinerForItsMisplacedArea)
 // apart) across a section 100 x 60, meshed by the paper's method on a grid coarser than its teeth.
 TEST(MesherTest, ARegionWhoseTrianglesLieOutOfPlaceIsNamedEvenWhenItsAreaIsRight)
 {
-  std::vector<Vec2> lower, upper;
-  for (int i = 0; i <= 20; ++i)
-  {
-    lower.push_back({ 5.0 * i, i % 2 ? 31.5 : 28.5 });
-    upper.push_back({ 5.0 * i, i % 2 ? 34.5 : 31.5 });
-  }
-  strata::RawPolylines raw;
-  std::vector<Vec2> below = { { 0, 0 }, { 100, 0 } }, layer = lower, above = upper;
-  below.insert(below.end(), lower.rbegin(), lower.rend());
-  layer.insert(layer.end(), upper.rbegin(), upper.rend());
-  above.insert(above.end(), { { 100, 60 }, { 0, 60 } });
-  strata_test::addLoop(raw, below, 0);
-  strata_test::addLoop(raw, layer, 1);
-  strata_test::addLoop(raw, above, 2);
-  strata::MesherParams paper;
-  paper.compression.optimize = false;
-  paper.grid.maxLevel = 8;
-  const strata::MesherResult r = strata::triangulate(raw, paper);
+  const strata::MesherResult r = zigzagSection({ 30.0, 33.0 }).second;
   ASSERT_EQ(r.regionAreas.size(), 3u);
   const strata::MesherResult::RegionArea& thin = r.regionAreas[1];
   ASSERT_EQ(thin.id, 1);
