@@ -2,7 +2,7 @@
 for checks on models not seen before.
 
 Run by hand, with Debian's Python (ParaView's VTK modules, shapely):
-    /usr/bin/python3 Testing/Benchmark/random_junction_models.py FIRST_SEED LAST_SEED OUT_DIR
+    /usr/bin/python3 Testing/Benchmark/random_junction_models.py FIRST_SEED LAST_SEED OUT_DIR [--curves]
 writes, for each seed in FIRST_SEED..LAST_SEED-1, six models (OUT_DIR/KINDNNN.vtp):
 - pie: a disc cut into 3 to 11 sectors at its centre, 40% of them 0.2 to 3 degrees wide;
 - fan: 3 to 9 horizons fanning out from one point of a section's base, 0.3 to 3.4 degrees
@@ -16,8 +16,11 @@ writes, for each seed in FIRST_SEED..LAST_SEED-1, six models (OUT_DIR/KINDNNN.vt
 - comb: a body with 3 to 14 teeth 10^-3 to 10^-1.5 of the width wide in a box.
 Each model is scaled by 10^-3 to 10^5, 30% of them moved up to 1e6 units off the origin. The
 line work is noded with shapely and polygonized; each face is a region of its own (faces below
-1e-9 of the total area are left out: a hole, the exterior). Mesh them with
-build/bin/triangulate_to_vtu and check them with meshcheck.py (README, Measured).
+1e-9 of the total area are left out: a hole, the exterior). With --curves each model is also
+written in the Shared curves form, OUT_DIR/KINDNNN_curves.vtp: the faces' edges chained from
+junction to junction (vertices where the number of edges is not 2 or the region pair changes),
+on the same vertices. Mesh them with build/bin/triangulate_to_vtu and check them with
+meshcheck.py (README, Measured).
 """
 import math
 import os
@@ -25,6 +28,7 @@ import sys
 
 import numpy as np
 from shapely.geometry import LineString, Point, Polygon, box
+from shapely.geometry.polygon import orient
 from shapely.ops import polygonize, unary_union
 
 from random_faulted_sections import polydata  # same folder
@@ -131,20 +135,78 @@ def comb(rng):
 KINDS = {"pie": pie, "fan": fan, "xfault": xfault, "dyke": dyke, "star": star, "comb": comb}
 
 
-def model(kind, seed, path):
-    """Writes the model of one kind and seed to path."""
+def shared_curves(loops, ids):
+    """The Shared curves form of closed loops (each with its region on its left, the others'
+    or the exterior, -1, on its right): chains of edges from junction to junction, each with
+    its (left, right) regions."""
+    side = {}
+    for loop, region in zip(loops, ids):
+        for a, b in zip(loop[:-1], loop[1:]):
+            side[(a, b)] = region
+    edges = {}  # undirected edge -> (start, end, left, right), its left region's direction
+    for (a, b), region in side.items():
+        if (b, a) in side and side[(b, a)] > region:
+            continue  # the twin, with the larger region on its left, is the edge's direction
+        edges[frozenset((a, b))] = (a, b, region, side.get((b, a), -1))
+    at = {}
+    for key, (a, b, _, _) in edges.items():
+        at.setdefault(a, []).append(key)
+        at.setdefault(b, []).append(key)
+
+    def labels(v, key):
+        """The (left, right) regions of an edge walked away from v."""
+        a, _, left, right = edges[key]
+        return (left, right) if a == v else (right, left)
+
+    junction = {v for v, keys in at.items()
+                if len(keys) != 2 or labels(v, keys[0])[::-1] != labels(v, keys[1])}
+    used, chains = set(), []
+
+    def walk(v, key):
+        chain, pair = [v], labels(v, key)
+        while True:
+            used.add(key)
+            a, b, _, _ = edges[key]
+            v = b if a == v else a
+            chain.append(v)
+            if v in junction or v == chain[0]:
+                return chain, pair
+            key = next(k for k in at[v] if k != key)
+
+    for v in sorted(junction):
+        for key in at[v]:
+            if key not in used:
+                chains.append(walk(v, key))
+    for key in edges:
+        if key not in used:  # a closed curve without junctions
+            chains.append(walk(edges[key][0], key))
+    return chains
+
+
+def model(kind, seed, path, curves=False):
+    """Writes the model of one kind and seed to path (and, with curves, its Shared curves form
+    beside it)."""
     rng = np.random.default_rng(seed * 100 + len(kind))
     faces = KINDS[kind](rng)
     scale = 10 ** rng.uniform(-3, 5)
     offset = rng.uniform(-1e6, 1e6, 2) if rng.random() < 0.3 else np.zeros(2)
-    loops, ids = [], []
+    loops, ids, oriented = [], [], []
     for i, face in enumerate(faces):
         for ring in [face.exterior] + list(face.interiors):
             loops.append([tuple(p) for p in np.array(ring.coords) * scale + offset])
             ids.append(i)
+        for ring in [orient(face).exterior] + list(orient(face).interiors):  # face on the left
+            oriented.append([tuple(p) for p in np.array(ring.coords) * scale + offset])
+    name = "%s%03d" % (kind, seed)
     source = "random_junction_models.py seed %d: %s, %d regions, scale %.4g, offset (%.6g, %.6g)" % (
         seed, kind, len(faces), scale, offset[0], offset[1])
-    write_vtp(path, polydata(loops, [("RegionId", ids)], "%s%03d" % (kind, seed), source))
+    write_vtp(path, polydata(loops, [("RegionId", ids)], name, source))
+    if curves:
+        chains = shared_curves(oriented, ids)
+        write_vtp(path.replace(".vtp", "_curves.vtp"), polydata(
+            [c for c, _ in chains], [("LeftRegion", [lr[0] for _, lr in chains]),
+                                     ("RightRegion", [lr[1] for _, lr in chains])],
+            name + "_curves", source + " (Shared curves form)"))
 
 
 if __name__ == "__main__":
@@ -152,4 +214,4 @@ if __name__ == "__main__":
     os.makedirs(out, exist_ok=True)
     for s in range(first, last):
         for kind in KINDS:
-            model(kind, s, os.path.join(out, "%s%03d.vtp" % (kind, s)))
+            model(kind, s, os.path.join(out, "%s%03d.vtp" % (kind, s)), "--curves" in sys.argv[4:])
