@@ -351,6 +351,22 @@ class TriangulationTest(unittest.TestCase):
             field(default, "MaxRegionMisplacedArea"), field(default, "MaxRegionAreaError"))
         self.assertGreaterEqual(field(default, "MinimumAngle"), 30.0 - 1e-6)
 
+    def test_a_triangle_at_a_sharp_corner_does_not_hide_the_angle_misses_beside_it(self):
+        # Ten layers pinching out at one point: at LocalMaxLevel 18 the mesh has a triangle on
+        # that apex (a sharp input corner forces it) and triangles beside it down to 15.88
+        # degrees that no corner forces. By default those still count as an angle miss, and the
+        # mesh 2 levels finer is kept (18.96 degrees off the corner, the boundary within half a
+        # local edge).
+        default, at18 = default_and_changed(
+            "fan_apex_section.vtp", LocalMaxLevel=18, ThinLayerRetry=0)
+        self.assertGreater(field(at18, "TrianglesAtSharpCorners"), 0)
+        self.assertGreater(field(at18, "TrianglesBelowMinimumAngle"), 0)
+        self.assertLess(field(at18, "MinimumAngleUnforced"), 16.0)
+        self.assertGreater(field(at18, "MaxRelativeBoundaryDeviation"), 0.5)
+        self.assertEqual(field(default, "LocalMaxLevel"), 20)
+        self.assertGreater(field(default, "MinimumAngleUnforced"), 18.0)
+        self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
+
     def test_a_region_still_cut_at_the_finer_level_is_made_finer_again(self):
         # Region 3 is joined across a fault by a neck an eighth of the finest edge wide: made
         # once it is cut (BrokenRegions); by default the meshes 4 and 6 levels finer cut it too,
