@@ -486,6 +486,84 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
   return moved;
 }
 
+// After the refinement, the vertices of the region boundary still farther than `tolerance` from
+// the curves (those the snaps could not place): each takes its triangles with it into the region
+// where all their centroids lie, when the edges that then bound that region (each triangle's edge
+// across from the vertex, where the triangle beyond is of another region or there is none) join
+// vertices on the curves with their middles on them too. A layer 3e-6 of a section's width thick
+// ending at the section's side has two junctions there 1/130 of a finest edge apart: one vertex
+// was left 4.3 units outside the section (1000 wide), with three triangles tagged with the
+// regions beside it; they go into the exterior, and the section's side is the mesh's border
+// again. Returns how many vertices went so.
+std::size_t retagStrayStars(CompressionResult& mesh,
+  const BoundaryRails& rails,
+  StripTreeScratch& scratch,
+  double tolerance,
+  const std::function<int(Vec2)>& regionOf)
+{
+  const PointStars stars = pointStars(mesh.points.size(), mesh.triangles);
+  const auto& start = stars.start;
+  const auto& star = stars.items;
+  const auto onCurve = [&](Vec2 p)
+  {
+    double d = 0.0;
+    rails.closest(p, scratch, &d);
+    return d <= tolerance;
+  };
+  std::size_t count = 0;
+  for (int v = 0; v + 1 < static_cast<int>(start.size()); ++v)
+  {
+    bool boundary = false;
+    for (int s = start[v] + 1; s < start[v + 1] && !boundary; ++s)
+    {
+      boundary = mesh.triangleRegion[star[s]] != mesh.triangleRegion[star[start[v]]];
+    }
+    if (!boundary || onCurve(mesh.points[v]))
+    {
+      continue;
+    }
+    // The region of all the centroids, if they agree.
+    int region = kNoCurveNear;
+    bool agree = true;
+    for (int s = start[v]; s < start[v + 1] && agree; ++s)
+    {
+      const std::array<int, 3>& tri = mesh.triangles[star[s]];
+      const int r =
+        regionOf((1.0 / 3.0) * (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]));
+      agree = region == kNoCurveNear || r == region;
+      region = r;
+    }
+    // The new boundary: each triangle's edge across from v, where the one beyond it is of
+    // another region (or there is none).
+    for (int s = start[v]; s < start[v + 1] && agree; ++s)
+    {
+      const std::array<int, 3>& tri = mesh.triangles[star[s]];
+      const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+      const int a = tri[(k + 1) % 3], b = tri[(k + 2) % 3];
+      int beyond = kNoCurveNear;
+      for (int u = start[a]; u < start[a + 1]; ++u)
+      {
+        if (star[u] != star[s] && hasVertex(mesh.triangles[star[u]], b))
+        {
+          beyond = mesh.triangleRegion[star[u]];
+        }
+      }
+      agree = beyond == region ||
+        (onCurve(mesh.points[a]) && onCurve(mesh.points[b]) &&
+          onCurve(0.5 * (mesh.points[a] + mesh.points[b])));
+    }
+    if (agree)
+    {
+      for (int s = start[v]; s < start[v + 1]; ++s)
+      {
+        mesh.triangleRegion[star[s]] = region;
+      }
+      ++count;
+    }
+  }
+  return count;
+}
+
 constexpr double kLayerProbe = 2.0;  // curve recovery: layer probes, in recovery margins
 constexpr double kStretch = 8.0;     // curve fidelity: curve stretches up to this many edges long
 constexpr double kCornerDepth = 0.5; // curve recovery: a corner inserted this deep in inradii
@@ -976,12 +1054,20 @@ void refineCompressed(CompressionResult& compressed,
     bothHalves([&] { query.regionsNear(p, reach, n, 0, region); },
       [&] { query2.regionsNear(p, reach, n, 1, region); });
   };
-  if (compressed.offCurveBoundaryVertices > 0 &&
-    snapStrayBoundaryVertices(compressed, rails, scratch, onCurveTolerance, {}, true) ==
-      compressed.offCurveBoundaryVertices)
+  // (Whether the snaps leave any: retagStrayStars() looks for them after the refinement.)
+  bool strayLeft = false;
+  if (compressed.offCurveBoundaryVertices > 0)
   {
-    // The compression's warning counted them; they are all on a curve now.
-    dropOffCurveWarning(compressed.warnings);
+    if (snapStrayBoundaryVertices(compressed, rails, scratch, onCurveTolerance, {}, true) ==
+      compressed.offCurveBoundaryVertices)
+    {
+      // The compression's warning counted them; they are all on a curve now.
+      dropOffCurveWarning(compressed.warnings);
+    }
+    else
+    {
+      strayLeft = true;
+    }
   }
   KnownCentroidRegions known;
   if (params.curveRecovery)
@@ -1341,6 +1427,10 @@ void refineCompressed(CompressionResult& compressed,
   compressed.triangles = std::move(rm.triangles);
   compressed.triangleRegion = std::move(rm.region);
   compressed.triangleLevel = std::move(rm.level);
+  if (strayLeft)
+  {
+    retagStrayStars(compressed, rails, scratch, onCurveTolerance, regionOf);
+  }
   result.summary.refinementVertices = rr.interiorVertices + rr.boundaryVertices + rr.sizeVertices;
   result.summary.curveVertices = rr.curveVertices;
   result.keptCorners.clear();

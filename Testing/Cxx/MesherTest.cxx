@@ -2573,6 +2573,32 @@ TEST(MesherTest, ARegionWhoseTrianglesLieOutOfPlaceIsNamedEvenWhenItsAreaIsRight
   EXPECT_EQ(warnings.find("more than 10% off their model area"), std::string::npos) << warnings;
 }
 
+// A layer 0.003 thick (3e-6 of the section's width, 1/130 of the finest edge) ending at both
+// sides of a section 1000 x 100 (vanishing_layer_section.vtp): its two junctions at each side are
+// far closer than the finest edge, and the compression left a vertex 4.3 units outside the
+// section that neither a snap nor a merge could place, with three triangles tagged with the
+// layers beside it (one at 26.8 degrees). After the refinement it goes with its triangles into
+// the exterior, where their centroids lie: every triangle inside the section, every boundary
+// vertex on a curve, 30 degrees. The layer itself is lost, and named.
+TEST(MesherTest, AVertexLeftOutsideTheModelGoesWithItsTrianglesIntoTheExterior)
+{
+  const auto [raw, r] = madeByDefault("vanishing_layer_section.vtp");
+  for (std::size_t t = 0; t < r.triangles.size(); ++t)
+  {
+    const auto& tri = r.triangles[t];
+    const Vec2 g =
+      (1.0 / 3.0) * (r.points[tri[0]] + r.points[tri[1]] + r.points[tri[2]]) + r.origin;
+    ASSERT_TRUE(g.x > 0.0 && g.x < 1000.0 && g.y > 0.0 && g.y < 100.0)
+      << "triangle " << t << " at (" << g.x << ", " << g.y << ")";
+  }
+  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * 1000.0);
+  EXPECT_GE(r.summary.minAngle, 30.0 - 0.05);
+  ASSERT_EQ(r.unresolvedRegions.size(), 1u);
+  EXPECT_EQ(r.unresolvedRegions.front(), 1);
+  const std::string warnings = allWarnings(r);
+  EXPECT_EQ(warnings.find("could not be placed on a curve"), std::string::npos) << warnings;
+}
+
 // Ten layers pinching out at one point of a section's base, 0.66 to 3.07 degrees apart
 // (fan_apex_section.vtp, fan002 of random_junction_models.py 0 8). At LocalMaxLevel 18 the mesh
 // has a triangle whose smallest angle sits on the apex, a sharp input corner that forces it, and

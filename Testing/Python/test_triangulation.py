@@ -367,6 +367,21 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(field(default, "MinimumAngleUnforced"), 18.0)
         self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
 
+    def test_a_vertex_left_outside_the_model_goes_into_the_exterior(self):
+        # A layer 3e-6 of the section's width thick ends at its sides: the compression left a
+        # vertex 4.3 units outside the section, with three triangles; after the refinement
+        # they go into the exterior, and the mesh lies within the section.
+        mesh = Triangulation(Input=simple.XMLPolyDataReader(
+            FileName=[st.data("vanishing_layer_section.vtp")]))
+        out = dsa.WrapDataObject(servermanager.Fetch(mesh))
+        xmin, xmax, ymin, ymax = out.VTKObject.GetBounds()[:4]
+        self.assertGreaterEqual(xmin, 0.0)
+        self.assertLessEqual(xmax, 1000.0)
+        self.assertGreaterEqual(ymin, 0.0)
+        self.assertLessEqual(ymax, 100.0)
+        self.assertLessEqual(field(out, "MaxBoundaryVertexDistance"), 1e-9 * 1000.0)
+        self.assertGreaterEqual(field(out, "MinimumAngle"), 30.0 - 0.05)
+
     def test_a_region_still_cut_at_the_finer_level_is_made_finer_again(self):
         # Region 3 is joined across a fault by a neck an eighth of the finest edge wide: made
         # once it is cut (BrokenRegions); by default the meshes 4 and 6 levels finer cut it too,
