@@ -552,7 +552,7 @@ std::size_t retagStrayStars(CompressionResult& mesh,
         (onCurve(mesh.points[a]) && onCurve(mesh.points[b]) &&
           onCurve(0.5 * (mesh.points[a] + mesh.points[b])));
     }
-    if (agree)
+    if (agree && region != kNoCurveNear)
     {
       for (int s = start[v]; s < start[v + 1]; ++s)
       {
