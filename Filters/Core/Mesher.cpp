@@ -308,6 +308,28 @@ constexpr double kModelCornerMargin = 5.0; // degrees above MinimumAngle: a shar
 constexpr double kSnapFloor = 5.0; // degrees: a snap leaves no smaller angle (unless one was)
 constexpr double kMergeFloor = 1.0; // degrees: nor a merge into a neighbour on a curve
 
+// Whether p lies within `tolerance` of the curves.
+bool onCurve(const BoundaryRails& rails, Vec2 p, StripTreeScratch& scratch, double tolerance)
+{
+  double d = 0.0;
+  rails.closest(p, scratch, &d);
+  return d <= tolerance;
+}
+
+// Whether vertex v's triangles (its star) are of more than one region: v is on the region
+// boundary (an edge between triangles of different regions, -1 the exterior).
+bool onRegionBoundary(const PointStars& stars, const LargeVector<int>& region, std::size_t v)
+{
+  for (int s = stars.start[v] + 1; s < stars.start[v + 1]; ++s)
+  {
+    if (region[stars.items[s]] != region[stars.items[stars.start[v]]])
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Vertices of the region boundary (an edge between triangles of different regions, -1 the
 // exterior) farther than `tolerance` from the curves that the compression could not place,
 // and those of a triangle `misplaced` flags when given: each is moved to its closest curve
@@ -347,17 +369,12 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
       StripTreeScratch& heap = which == 0 ? scratch : second;
       for (std::size_t v = from; v < to; ++v)
       {
-        bool boundary = false;
-        for (int s = start[v] + 1; s < start[v + 1] && !boundary; ++s)
-        {
-          boundary = mesh.triangleRegion[star[s]] != mesh.triangleRegion[star[start[v]]];
-        }
+        bool boundary = onRegionBoundary(stars, mesh.triangleRegion, v);
         for (int s = start[v]; s < start[v + 1] && !boundary && misplaced; ++s)
         {
           boundary = misplaced(star[s]);
         }
-        double d = 0.0;
-        stray[v] = boundary && (rails.closest(mesh.points[v], heap, &d), !(d <= tolerance));
+        stray[v] = boundary && !onCurve(rails, mesh.points[v], heap, tolerance);
       }
     },
     [] {});
@@ -415,8 +432,7 @@ std::size_t snapStrayBoundaryVertices(CompressionResult& mesh,
     std::vector<std::pair<double, int>> onCurve;
     for (const int u : around)
     {
-      double d = 0.0;
-      if (!stale[u] && (rails.closest(mesh.points[u], scratch, &d), d <= tolerance))
+      if (!stale[u] && strata::onCurve(rails, mesh.points[u], scratch, tolerance))
       {
         onCurve.emplace_back(norm2(mesh.points[u] - mesh.points[v]), u);
       }
@@ -504,21 +520,11 @@ std::size_t retagStrayStars(CompressionResult& mesh,
   const PointStars stars = pointStars(mesh.points.size(), mesh.triangles);
   const auto& start = stars.start;
   const auto& star = stars.items;
-  const auto onCurve = [&](Vec2 p)
-  {
-    double d = 0.0;
-    rails.closest(p, scratch, &d);
-    return d <= tolerance;
-  };
+  const auto onCurve = [&](Vec2 p) { return strata::onCurve(rails, p, scratch, tolerance); };
   std::size_t count = 0;
   for (int v = 0; v + 1 < static_cast<int>(start.size()); ++v)
   {
-    bool boundary = false;
-    for (int s = start[v] + 1; s < start[v + 1] && !boundary; ++s)
-    {
-      boundary = mesh.triangleRegion[star[s]] != mesh.triangleRegion[star[start[v]]];
-    }
-    if (!boundary || onCurve(mesh.points[v]))
+    if (!onRegionBoundary(stars, mesh.triangleRegion, v) || onCurve(mesh.points[v]))
     {
       continue;
     }
