@@ -312,7 +312,9 @@ public:
    *   than half the local edge off the curves where the region is at least a finest edge wide
    *   (`MaxRelativeBoundaryDeviation` above 0.5): the mesh is made again with
    *   ThinLayerRefinement toggled (for the boundary alone, around the misses first, then
-   *   everywhere). Field `ThinLayerMesh` says how the kept one was made.
+   *   everywhere; of equals on the hard bounds below, the smaller deviation is kept when the
+   *   smallest angle, the area and the regions cut are no worse). Field `ThinLayerMesh` says
+   *   how the kept one was made.
    * - Then, with the automatic levels (LocalMaxLevel -1, no MinimumEdgeLength, no edge length
    *   field), CurveRecovery and MinimumAngle 25 or more: still below 25 degrees where no input
    *   corner forces it, a region's area still off by more than 0.5%, or, with MaxLevel
@@ -326,7 +328,8 @@ public:
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
    *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary
-   *   on a curve) is kept. Between equals: the larger smallest angle
+   *   on a curve) and, with the automatic sizes, issue 4's boundary bound
+   *   (`MaxRelativeBoundaryDeviation` at most 1) is kept. Between equals: the larger smallest angle
    *   (up to 30 degrees), or for an area miss the smaller area error, for the pieces fewer
    *   regions cut, for the boundary the smaller deviation, none of the others worse.
    * A warning gives every mesh's figures. In the finer levels' steps the smallest angle is that

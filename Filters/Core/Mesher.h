@@ -81,7 +81,10 @@ struct MesherParams
   /// wide lost to its neighbour) is made again with the thin layer refinement around
   /// MesherResult::boundaryMisses (grid.thinLayerZones) and, when that one still misses,
   /// everywhere; the one with the smallest deviation is kept as long as its smallest angle
-  /// (up to that bound) and its area error (beyond 0.5%) are not worse. Meshes that meet the bounds
+  /// (up to that bound), its area error (beyond 0.5%) and its regions cut are not worse. Of
+  /// two meshes, the one that misses fewer of the hard bounds (hardMisses() in Mesher.cpp; with
+  /// the automatic sizes, since 2026-12-07, a boundary more than one local edge off too) is
+  /// kept first, here and in the finer levels below. Meshes that meet the bounds
   /// are made once, as without it. With grid.thinLayerRefinement on, its mesh is the first one and
   /// the mesh without it the second, whatever this says. Then, with the automatic levels
   /// (grid.localMaxLevel -1, no grid.minEdgeLength or targetEdgeLength), curveRecovery, a

@@ -367,6 +367,22 @@ class TriangulationTest(unittest.TestCase):
         self.assertGreater(field(default, "MinimumAngleUnforced"), 18.0)
         self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
 
+    def test_a_larger_smallest_angle_does_not_buy_a_piece_of_a_layer_lost(self):
+        # Nine horizons fanning out from one point: at LocalMaxLevel 20 the mesh made without
+        # the thin layer refinement gives a piece of a layer about 6 finest edges wide to its
+        # neighbour (its boundary more than a local edge off, issue 4's bound) for a larger
+        # smallest angle. By default the mesh with the thin layer refinement, which keeps the
+        # piece, is kept.
+        default, once = default_and_changed(
+            "fanned_pinch_outs_section.vtp", LocalMaxLevel=20, ThinLayerRetry=0)
+        self.assertEqual(field(once, "ThinLayerMesh"), 0)
+        self.assertGreater(field(once, "MaxRelativeBoundaryDeviation"), 1.0)
+        self.assertEqual(field(default, "LocalMaxLevel"), 20)
+        self.assertEqual(field(default, "ThinLayerMesh"), 1)
+        self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 1.0)
+        self.assertGreater(field(default, "MinimumAngleUnforced"), 19.0)
+        self.assertLess(field(default, "MinimumAngleUnforced"), field(once, "MinimumAngleUnforced"))
+
     def test_a_vertex_left_outside_the_model_goes_into_the_exterior(self):
         # A layer 3e-6 of the section's width thick ends at its sides: the compression left a
         # vertex 4.3 units outside the section, with three triangles; after the refinement
