@@ -3161,18 +3161,21 @@ MesherResult triangulateOnce(const RawPolylines& input,
         std::max(result.summary.maxRegionAreaError, std::fabs(error));
       result.summary.maxRegionMisplacedArea =
         std::max(result.summary.maxRegionMisplacedArea, misplaced);
-      if (ra.mesh >= kUnresolvedFraction * ra.model && std::fabs(error) > kAreaWarning)
+      if (ra.mesh >= kUnresolvedFraction * ra.model)
       {
-        offArea += (offArea.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
-          (error > 0.0 ? "+" : "") + std::to_string(static_cast<int>(std::lround(100.0 * error))) +
-          "%)";
+        if (std::fabs(error) > kAreaWarning)
+        {
+          offArea += (offArea.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
+            (error > 0.0 ? "+" : "") +
+            std::to_string(static_cast<int>(std::lround(100.0 * error))) + "%)";
+        }
+        else if (misplaced > kAreaWarning)
+        {
+          offPlace += (offPlace.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
+            std::to_string(static_cast<int>(std::lround(100.0 * misplaced))) + "%)";
+        }
       }
-      else if (ra.mesh >= kUnresolvedFraction * ra.model && misplaced > kAreaWarning)
-      {
-        offPlace += (offPlace.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
-          std::to_string(static_cast<int>(std::lround(100.0 * misplaced))) + "%)";
-      }
-      if (ra.mesh < kUnresolvedFraction * ra.model)
+      else
       {
         result.unresolvedRegions.push_back(ra.id);
         unresolved += (unresolved.empty() ? "" : ", ") + std::to_string(ra.id) + " (" +
