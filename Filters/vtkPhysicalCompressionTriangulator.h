@@ -321,10 +321,11 @@ public:
    *   automatic too, a region with more or fewer pieces than the model has (`BrokenRegions`), a
    *   `MaxRelativeBoundaryDeviation` above 0.5 or triangles still below min(MinimumAngle, 30)
    *   (by more than 0.05 degrees) where no input corner forces them: made again with
-   *   LocalMaxLevel 4 levels finer and, when that one is kept and still misses any of
-   *   these, 2 levels finer again; when that third one
-   *   is kept and still cuts a region, 2 levels finer once more; a finer mesh not kept that
-   *   cuts a region as the kept one does leads to the next step too (field `LocalMaxLevel`).
+   *   LocalMaxLevel 4 levels finer and, while the mesh kept still misses any of these (the
+   *   finer one kept or not; toward MinimumAngle 30 or less), 2 levels finer again; when that
+   *   third one is kept and still cuts a region, 2 levels finer once more; a finer mesh not
+   *   kept that cuts a region as the kept one does leads to the next step too (field
+   *   `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
    *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary

@@ -98,9 +98,10 @@ struct MesherParams
   /// made again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when
   /// its smallest angle is larger, or when it mends the area, the pieces or the deviation
   /// without a smaller smallest angle (up to 30 degrees) (a warning gives both;
-  /// Summary::localMaxLevel); when
-  /// the finer one is kept and still misses any of these (that last one too), it
-  /// is made once more 2 levels finer again, kept
+  /// Summary::localMaxLevel); while
+  /// the mesh kept still misses any of these (that last one too), the finer one kept or not
+  /// (since 2026-12-07's sixty-third session; toward refinement.minimumAngle 30 or less), the
+  /// mesh is made once more 2 levels finer again, kept
   /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
   /// once more. A finer mesh not kept that cuts a region as the kept one does (a neck narrower
   /// than both meshes' triangles) leads to the next of these steps too, compared with the kept
@@ -202,8 +203,11 @@ struct MesherResult
     /// edge length of the triangles beside the approximated boundary's nearest edge), the
     /// input curves sampled every quarter finest edge and the approximated boundary every
     /// eighth of an edge (and, where a deviation above 0.5 may lie between two samples,
-    /// between them down to 0.001 local edges: below 0.5 the figure is the samples' largest,
-    /// which a peak between them may exceed), leaving out the
+    /// between them down to 0.001 local edges, and, since 2026-12-07's sixty-third session, on
+    /// past a point above 0.5 wherever a point between may be above 1, issue 4's bound: the
+    /// figure tells exactly on which side of 0.5 and of 1 the boundary lies; within those
+    /// ranges it is the largest of the points measured, which a peak between them may
+    /// exceed up to the range's end), leaving out the
     /// curve points beside a region narrower than finestEdgeLength (issue 5's exemption:
     /// another curve within it along the curve's normal, or the disc of that diameter
     /// touching the point, shrunk by 10%, cut by a curve) and the points of the approximated

@@ -2601,12 +2601,16 @@ TEST(MesherTest, AVertexLeftOutsideTheModelGoesWithItsTrianglesIntoTheExterior)
 
 // Ten layers pinching out at one point of a section's base, 0.66 to 3.07 degrees apart
 // (fan_apex_section.vtp, fan002 of random_junction_models.py 0 8). At LocalMaxLevel 18 the mesh
-// has a triangle whose smallest angle sits on the apex, a sharp input corner that forces it, and
-// triangles near the apex that no corner forces, down to 15.88 degrees. Those still miss the
-// angle: the mesh is made again 2 levels finer and kept for its larger smallest angle off the
-// corners (18.96 degrees), with its boundary within half a local edge (0.35; 0.88 at 18). Until
-// 2026-12-07 a triangle at a sharp corner hid the mesh's other angle misses from ThinLayerRetry,
-// and the mesh at 18 was kept.
+// made once has a triangle whose smallest angle sits on the apex, a sharp input corner that
+// forces it, and triangles near the apex that no corner forces, down to 15.88 degrees. Those
+// still miss the angle, and the finer levels go on: the mesh 2 levels finer is kept for its
+// larger smallest angle off the corners (18.96 degrees), with its boundary within half a local
+// edge (0.35). Until 2026-12-07 a triangle at a sharp corner hid the mesh's other angle misses
+// from ThinLayerRetry, and the mesh at 18 was kept. Since 2026-12-07's sixty-third session the
+// mesh at 18 without ThinLayerRefinement is seen to be more than a local edge off (1.03; the
+// mesher said 0.88 before), so the one with it (10.54 degrees) stands for that level and is not
+// kept over the mesh at 14 (14.45 degrees), which still misses the angle: the next level is made
+// all the same.
 TEST(MesherTest, ATriangleAtASharpCornerDoesNotHideTheAngleMissesAwayFromIt)
 {
   const auto [raw, r] = madeByDefault("fan_apex_section.vtp");
@@ -2616,8 +2620,8 @@ TEST(MesherTest, ATriangleAtASharpCornerDoesNotHideTheAngleMissesAwayFromIt)
   EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
   const std::string warnings = allWarnings(r);
   for (const char* text :
-    { "at LocalMaxLevel 18 (smallest 15.88 degrees off the sharp input corners,",
-      "it had triangles below 25 degrees (smallest 15.88 off the sharp input corners), so it was "
+    { "at LocalMaxLevel 18 (smallest 10.54 degrees off the sharp input corners,",
+      "; the first one is kept, but it had triangles below 25 degrees (smallest 14.45), so it was "
       "made again at LocalMaxLevel 20",
       "the third one is kept" })
   {
@@ -2647,6 +2651,49 @@ TEST(MesherTest, ALargerSmallestAngleDoesNotBuyAPieceOfALayerLost)
     { "the mesh without ThinLayerRefinement missed the angle, area or boundary bound",
       "boundary deviation 2.3050 local edges), so a mesh with ThinLayerRefinement was made too",
       "; the second one is kept" })
+  {
+    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
+  }
+}
+
+// A disc cut into 11 sectors at its centre, six of them 1.8 to 4.2 degrees wide
+// (eleven_sector_pie.vtp, pie007 of random_junction_models.py 7 8). At LocalMaxLevel 17 the mesh
+// made once loses pieces of the narrow sectors near the centre: its boundary lies 1.27 local
+// edges off the curves by the mesher's measure, 1.38 by the quality table's. Until 2026-12-07's
+// sixty-third session the mesher said 0.91: between two curve samples its search stopped at the
+// first one above half a local edge, so above 0.5 its figure was the samples' largest. It now
+// goes on while a point between may be beyond one local edge (issue 4's bound, a hard bound of
+// ThinLayerRetry).
+TEST(MesherTest, TheBoundaryFigureTellsABoundaryMoreThanALocalEdgeOff)
+{
+  const auto [raw, once] = madeOnce("eleven_sector_pie.vtp");
+  EXPECT_EQ(once.summary.localMaxLevel, 17);
+  EXPECT_GT(once.summary.maxRelativeDeviation, 1.2);
+  EXPECT_LT(once.summary.maxRelativeDeviation, 1.4);
+  const std::string warnings = allWarnings(once);
+  EXPECT_NE(warnings.find("the mesh's boundary lies 1.2"), std::string::npos) << warnings;
+}
+
+// The same disc by default: the mesh at LocalMaxLevel 17 (the one with ThinLayerRefinement
+// around the misses, 0.98 local edges off) still misses half a local edge; the mesh 4 levels
+// finer (0.89) is not kept, its smallest angle smaller (26.92 against 28.45 degrees). Since
+// 2026-12-07's sixty-third session the kept mesh still missing a bound leads on to the next
+// level all the same (2 levels finer again), and that one is kept: 0.003 local edges, 29.24
+// degrees. Until then a finer mesh not kept ended the levels.
+TEST(MesherTest, AFinerMeshNotKeptDoesNotEndTheLevelsWhileTheKeptOneMisses)
+{
+  const auto [raw, r] = madeByDefault("eleven_sector_pie.vtp");
+  EXPECT_EQ(r.summary.localMaxLevel, 23);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GT(r.summary.minAngleUnforced, 29.0);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
+  const std::string warnings = allWarnings(r);
+  for (const char* text : { "the mesh at LocalMaxLevel 17 had its boundary",
+         "so it was made again at LocalMaxLevel 21 (",
+         "; the first one is kept, but it had its boundary",
+         "so it was made again at LocalMaxLevel 23 (",
+         "; the third one is kept" })
   {
     EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
   }
