@@ -323,9 +323,10 @@ public:
    *   (by more than 0.05 degrees) where no input corner forces them: made again with
    *   LocalMaxLevel 4 levels finer and, while the mesh kept still misses any of these (the
    *   finer one kept or not; toward MinimumAngle 30 or less), 2 levels finer again; when that
-   *   third one is kept and still cuts a region, 2 levels finer once more; a finer mesh not
-   *   kept that cuts a region as the kept one does leads to the next step too (field
-   *   `LocalMaxLevel`).
+   *   third one is kept and still cuts a region, or the one kept is still more than one local
+   *   edge off (`MaxRelativeBoundaryDeviation` above 1; MinimumAngle 30 or less), 2 levels
+   *   finer once more; a finer mesh not kept that cuts a region as the kept one does leads to
+   *   the next step too (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
    *   degrees, or MinimumAngle when lower, away from kept corners; areas within 0.5%; with
    *   the automatic sizes, no region cut or lost; every vertex of the approximated boundary

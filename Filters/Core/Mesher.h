@@ -98,15 +98,16 @@ struct MesherParams
   /// made again with grid.localMaxLevel 4 levels finer than the automatic one, and kept when
   /// its smallest angle is larger, or when it mends the area, the pieces or the deviation
   /// without a smaller smallest angle (up to 30 degrees) (a warning gives both;
-  /// Summary::localMaxLevel); while
-  /// the mesh kept still misses any of these (that last one too), the finer one kept or not
-  /// (since 2026-12-07's sixty-third session; toward refinement.minimumAngle 30 or less), the
-  /// mesh is made once more 2 levels finer again, kept
-  /// by the same rule, and when that third one is kept and still cuts a region, 2 levels finer
-  /// once more. A finer mesh not kept that cuts a region as the kept one does (a neck narrower
-  /// than both meshes' triangles) leads to the next of these steps too, compared with the kept
-  /// one. These smallest angles are Summary::minAngleUnforced: off the input's sharp corners and,
-  /// with keepSharpCorners, off the kept corners (the wedges keep the input's). Default on.
+  /// Summary::localMaxLevel); while the mesh kept still misses any of these (that last one
+  /// too), the finer one kept or not (since 2026-12-07's sixty-third session; toward
+  /// refinement.minimumAngle 30 or less), the mesh is made once more 2 levels finer again,
+  /// kept by the same rule, and when that third one is kept and still cuts a region, or the
+  /// one kept is still more than one local edge off (Summary::maxRelativeDeviation above 1;
+  /// toward 30 degrees or less), 2 levels finer once more. A finer mesh not kept that cuts a
+  /// region as the kept one does (a neck narrower than both meshes' triangles) leads to the
+  /// next of these steps too, compared with the kept one. These smallest angles are
+  /// Summary::minAngleUnforced: off the input's sharp corners and, with keepSharpCorners, off the
+  /// kept corners (the wedges keep the input's). Default on.
   bool thinLayerRetry = true;
 };
 

@@ -397,6 +397,17 @@ class TriangulationTest(unittest.TestCase):
         self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
         self.assertGreater(field(default, "MinimumAngleUnforced"), 29.0)
 
+    def test_a_boundary_still_more_than_a_local_edge_off_leads_to_one_level_more(self):
+        # Eight horizons fanning out from one point: at LocalMaxLevel 18 the boundary lies more
+        # than a local edge off near the point (issue 4's bound), and 2 levels finer it still
+        # does. By default one level more is made, 2 levels finer again, and kept: its boundary
+        # within half a local edge, no triangle below 25 degrees.
+        default, at18 = default_and_changed("eight_horizon_fan_section.vtp", LocalMaxLevel=18)
+        self.assertGreater(field(at18, "MaxRelativeBoundaryDeviation"), 1.0)
+        self.assertEqual(field(default, "LocalMaxLevel"), 22)
+        self.assertLessEqual(field(default, "MaxRelativeBoundaryDeviation"), 0.5)
+        self.assertGreater(field(default, "MinimumAngleUnforced"), 25.0)
+
     def test_a_vertex_left_outside_the_model_goes_into_the_exterior(self):
         # A layer 3e-6 of the section's width thick ends at its sides: the compression left a
         # vertex 4.3 units outside the section, with three triangles; after the refinement
