@@ -322,9 +322,9 @@ public:
    *   `MaxRelativeBoundaryDeviation` above 0.5 or triangles still below min(MinimumAngle, 30)
    *   (by more than 0.05 degrees) where no input corner forces them: made again with
    *   LocalMaxLevel 4 levels finer and, while the mesh kept still misses any of these (the
-   *   finer one kept or not; toward MinimumAngle 30 or less), 2 levels finer again; when that
+   *   finer one kept or not; refined toward 30 degrees or less), 2 levels finer again; when that
    *   third one is kept and still cuts a region, or the one kept is still more than one local
-   *   edge off (`MaxRelativeBoundaryDeviation` above 1; MinimumAngle 30 or less), 2 levels
+   *   edge off (`MaxRelativeBoundaryDeviation` above 1; toward 30 or less), 2 levels
    *   finer once more; a finer mesh not kept that cuts a region as the kept one does leads to
    *   the next step too (field `LocalMaxLevel`).
    * - Of two meshes, the one that misses fewer of issue 5's hard bounds (smallest angle 25
