@@ -838,6 +838,49 @@ bool areaMissed(const MesherResult::Summary& s)
   return s.maxRegionAreaError > kAreaBound || s.maxRegionMisplacedArea > kAreaBound;
 }
 
+// Whether the boundary deviation's search between two neighbouring points u and v goes on
+// (triangulateOnce(): along the mesh's boundary edges and along the curves' segments, where the
+// bound of the distance between them may exceed kDeviationBound local edges). du and dv: their
+// distances to the other side, compared with the bounds times `unit` (the local edge; 1 when
+// they are relative already); `bound`: the bound of the distance between them, compared with
+// kHardDeviationBound times `boundUnit`; narrowU(), narrowV(): whether each lies beside a
+// region narrower than the finest edge (asked only when needed). 1: no miss known, go on.
+// 2: a miss known (an end above kDeviationBound outside a narrow region), go on, since a point
+// between may be beyond kHardDeviationBound and neither end is beyond it outside a narrow
+// region. 0: stop (past a miss otherwise, or both ends above kDeviationBound beside narrow
+// regions).
+template<class NarrowU, class NarrowV>
+int peakSearch(double du,
+  double dv,
+  double unit,
+  double bound,
+  double boundUnit,
+  NarrowU&& narrowU,
+  NarrowV&& narrowV)
+{
+  const bool aboveU = du > kDeviationBound * unit;
+  const bool aboveV = dv > kDeviationBound * unit;
+  if (!((aboveU && aboveV) || (aboveU && !narrowU()) || (aboveV && !narrowV())))
+  {
+    return 1;
+  }
+  const bool hardU = du > kHardDeviationBound * unit;
+  const bool hardV = dv > kHardDeviationBound * unit;
+  if (bound <= kHardDeviationBound * boundUnit || (aboveU && aboveV && narrowU() && narrowV()) ||
+    (hardU && !narrowU()) || (hardV && !narrowV()))
+  {
+    return 0;
+  }
+  return 2;
+}
+
+// Whether, with the `automatic` sizes, the boundary lies more than issue 4's
+// kHardDeviationBound local edges off the curves (a hard miss, hardMisses()).
+bool beyondHardDeviation(const MesherResult::Summary& s, bool automatic)
+{
+  return automatic && s.maxRelativeDeviation > kHardDeviationBound;
+}
+
 // The warnings' note of a misplaced area above kAreaBound where the net area is within it
 // (else nothing: the net area error names the miss).
 std::string misplacedNote(const MesherResult::Summary& s)
@@ -867,7 +910,7 @@ int hardMisses(const MesherResult& r, bool angleMiss, bool automatic, double off
   return static_cast<int>(angleMiss) + static_cast<int>(areaMissed(r.summary)) +
     static_cast<int>(automatic && (!r.brokenRegions.empty() || !r.unresolvedRegions.empty())) +
     static_cast<int>(r.summary.maxBoundaryVertexDistance > offCurve) +
-    static_cast<int>(automatic && r.summary.maxRelativeDeviation > kHardDeviationBound);
+    static_cast<int>(beyondHardDeviation(r.summary, automatic));
 }
 
 // Whether the sizes are all the mesher's own: no MaxLevel, LocalMaxLevel, MinimumEdgeLength
@@ -2688,23 +2731,20 @@ MesherResult triangulateOnce(const RawPolylines& input,
               {
                 return;
               }
-              const bool aboveU = u.d > kDeviationBound * h[s];
-              const bool aboveV = v.d > kDeviationBound * h[s];
-              bool past = false;
-              if ((aboveU && aboveV) || (aboveU && !narrowOf(u)) || (aboveV && !narrowOf(v)))
+              const int search = peakSearch(
+                u.d,
+                v.d,
+                h[s],
+                bound,
+                h[s],
+                [&] { return narrowOf(u); },
+                [&] { return narrowOf(v); });
+              if (search == 0)
               {
-                const bool hardU = u.d > kHardDeviationBound * h[s];
-                const bool hardV = v.d > kHardDeviationBound * h[s];
-                if (bound <= kHardDeviationBound * h[s] ||
-                  (aboveU && aboveV && narrowOf(u) && narrowOf(v)) || (hardU && !narrowOf(u)) ||
-                  (hardV && !narrowOf(v)))
-                {
-                  return;
-                }
-                past = true;
+                return;
               }
               const bool was = part.past;
-              part.past = was || past;
+              part.past = was || search == 2;
               EdgePoint m{ 0.5 * (u.f + v.f), 0.0, -1 };
               m.d = toCurvesWith(at(m), part.heap);
               self(self, u, m, depth + 1);
@@ -3028,23 +3068,20 @@ MesherResult triangulateOnce(const RawPolylines& input,
             // where that region may end: countries157 of random_lakes_countries.py 154 166,
             // 0.55 local edges between samples at 0.28 and 0.505, the latter beside a wedge's
             // tip.)
-            const bool aboveU = deviationOf(u, fu) > kDeviationBound;
-            const bool aboveV = deviationOf(v, fv) > kDeviationBound;
-            bool past = false;
-            if ((aboveU && aboveV) || (aboveU && !narrowAt(u, fu)) || (aboveV && !narrowAt(v, fv)))
+            const int search = peakSearch(
+              deviationOf(u, fu),
+              deviationOf(v, fv),
+              1.0,
+              bound,
+              least,
+              [&] { return narrowAt(u, fu); },
+              [&] { return narrowAt(v, fv); });
+            if (search == 0)
             {
-              const bool hardU = deviationOf(u, fu) > kHardDeviationBound;
-              const bool hardV = deviationOf(v, fv) > kHardDeviationBound;
-              if (bound <= kHardDeviationBound * least ||
-                (aboveU && aboveV && narrowAt(u, fu) && narrowAt(v, fv)) ||
-                (hardU && !narrowAt(u, fu)) || (hardV && !narrowAt(v, fv)))
-              {
-                return;
-              }
-              past = true;
+              return;
             }
             const bool was = part.past;
-            part.past = was || past;
+            part.past = was || search == 2;
             const double f = 0.5 * (fu + fv);
             Part::Sample s{ -1, 0.0, -1 };
             s.d = toMesh(p + f * (r - p), part, s.segment);
@@ -3721,8 +3758,7 @@ MesherResult triangulateToward(const RawPolylines& input,
     // degrees at 1.27 local edges at LocalMaxLevel 18 over 26.06 at 1.13 at 20, and at 22 is
     // within 0.001 at 25.27 degrees. Of the 2261 runs of the sets and Data, 5 ended so after
     // the second step; 2 keep the mesh of this one.)
-    const bool beyond =
-      automaticSizes(params) && meshes[kept].summary.maxRelativeDeviation > kHardDeviationBound;
+    const bool beyond = beyondHardDeviation(meshes[kept].summary, automaticSizes(params));
     const bool again = i + 1 < steps.size() &&
       (cutToo || (i == 0 && goOn && misses.any()) || (i == 1 && goOn && beyond) ||
         (newKept && (i + 1 == 2 ? misses.pieces : misses.any())));
@@ -3754,7 +3790,7 @@ int boundsMissedAtThirty(const MesherResult& r, bool automatic, double offCurve)
            offCurve) +
     // (The boundary counts once, whether beyond half a local edge or beyond the hard bound's one.)
     static_cast<int>(automatic && r.summary.maxRelativeDeviation > kDeviationBound &&
-      !(r.summary.maxRelativeDeviation > kHardDeviationBound));
+      !beyondHardDeviation(r.summary, automatic));
 }
 
 bool keepsTheMeshTowardThirty(const MesherResult& asked,

@@ -36,6 +36,16 @@ std::string allWarnings(const strata::MesherResult& r)
   return all;
 }
 
+// Expects each of `texts` in r's warnings (a failure names the text and gives them all).
+void expectWarningsSay(const strata::MesherResult& r, std::initializer_list<const char*> texts)
+{
+  const std::string warnings = allWarnings(r);
+  for (const char* text : texts)
+  {
+    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
+  }
+}
+
 // How many meshes of a finer level were made and not kept (stages of the one kept).
 long discardedLevelRuns(const strata::MesherResult& r)
 {
@@ -2030,11 +2040,8 @@ strata::RawPolylines expectMadeAgainFinerAtThirty(const char* file,
   expectEveryTriangleAtThirtyWithinTheBounds(r);
   EXPECT_GE(r.summary.minAngle, 30.0 - 1e-6);
   EXPECT_EQ(r.summary.localMaxLevel, level);
+  expectWarningsSay(r, said);
   const std::string warnings = allWarnings(r);
-  for (const char* text : said)
-  {
-    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
-  }
   EXPECT_EQ(warnings.find("stay below MinimumAngle"), std::string::npos) << warnings;
   return std::move(raw);
 }
@@ -2618,15 +2625,11 @@ TEST(MesherTest, ATriangleAtASharpCornerDoesNotHideTheAngleMissesAwayFromIt)
   EXPECT_GT(r.summary.minAngleUnforced, 18.0);
   EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
   EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
-  const std::string warnings = allWarnings(r);
-  for (const char* text :
+  expectWarningsSay(r,
     { "at LocalMaxLevel 18 (smallest 10.54 degrees off the sharp input corners,",
       "; the first one is kept, but it had triangles below 25 degrees (smallest 14.45), so it was "
       "made again at LocalMaxLevel 20",
-      "the third one is kept" })
-  {
-    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
-  }
+      "the third one is kept" });
 }
 
 // Nine horizons fanning out from one point of a section's base (fanned_pinch_outs_section.vtp,
@@ -2646,14 +2649,10 @@ TEST(MesherTest, ALargerSmallestAngleDoesNotBuyAPieceOfALayerLost)
   EXPECT_GT(r.summary.minAngleUnforced, 19.0);
   EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
   EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * 1.2);
-  const std::string warnings = allWarnings(r);
-  for (const char* text :
+  expectWarningsSay(r,
     { "the mesh without ThinLayerRefinement missed the angle, area or boundary bound",
       "boundary deviation 2.3050 local edges), so a mesh with ThinLayerRefinement was made too",
-      "; the second one is kept" })
-  {
-    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
-  }
+      "; the second one is kept" });
 }
 
 // A disc cut into 11 sectors at its centre, six of them 1.8 to 4.2 degrees wide
@@ -2688,15 +2687,12 @@ TEST(MesherTest, AFinerMeshNotKeptDoesNotEndTheLevelsWhileTheKeptOneMisses)
   EXPECT_GT(r.summary.minAngleUnforced, 29.0);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
   EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
-  const std::string warnings = allWarnings(r);
-  for (const char* text : { "the mesh at LocalMaxLevel 17 had its boundary",
-         "so it was made again at LocalMaxLevel 21 (",
-         "; the first one is kept, but it had its boundary",
-         "so it was made again at LocalMaxLevel 23 (",
-         "; the third one is kept" })
-  {
-    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
-  }
+  expectWarningsSay(r,
+    { "the mesh at LocalMaxLevel 17 had its boundary",
+      "so it was made again at LocalMaxLevel 21 (",
+      "; the first one is kept, but it had its boundary",
+      "so it was made again at LocalMaxLevel 23 (",
+      "; the third one is kept" });
 }
 
 // Eight horizons fanning out from one point of a section's base (eight_horizon_fan_section.vtp,
@@ -2714,14 +2710,11 @@ TEST(MesherTest, ABoundaryStillMoreThanALocalEdgeOffLeadsToOneLevelMore)
   EXPECT_GT(r.summary.minAngleUnforced, 25.0);
   EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
   EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
-  const std::string warnings = allWarnings(r);
-  for (const char* text : { "so it was made again at LocalMaxLevel 20 (",
-         "; the second one is kept, but it had its boundary 1.2721 local edges off",
-         "so it was made again at LocalMaxLevel 22 (",
-         "; the fourth one is kept" })
-  {
-    EXPECT_NE(warnings.find(text), std::string::npos) << text << "\n" << warnings;
-  }
+  expectWarningsSay(r,
+    { "so it was made again at LocalMaxLevel 20 (",
+      "; the second one is kept, but it had its boundary 1.2721 local edges off",
+      "so it was made again at LocalMaxLevel 22 (",
+      "; the fourth one is kept" });
 }
 
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
