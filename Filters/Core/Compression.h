@@ -162,6 +162,9 @@ private:
   std::vector<Chain> Chains;
   StripTree Tree;
   std::vector<std::array<int, 2>> SegmentOf; // tree segment -> (chain, segment)
+  /// The chain points at each model node: NodeLocations[NodeStart[node] .. NodeStart[node + 1]).
+  std::vector<int> NodeStart;
+  std::vector<Location> NodeLocations;
 };
 
 /// Vertex states at the end of compress().

@@ -299,6 +299,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <iterator>
@@ -374,6 +375,8 @@ constexpr double kSnapChord = 0.25; // 2b': a chord whose curve point lies this 
                                     // lengths from it, with a free vertex beside that point
 constexpr double kChordLocal = 0.4; // 2b': a chord whose curve point lies this many local
                                     // edges from it (and a finest edge) is split there
+constexpr std::size_t kManyChanged = 8; // flipToDelaunayNear(): more changed triangles than
+                                        // the mesh's over this are flagged, not sorted
 
 // > 0 when d lies strictly inside the circumcircle of the counter-clockwise triangle abc,
 // beyond a relative rounding margin.
@@ -437,6 +440,139 @@ double polylineLength(const std::vector<Vec2>& line)
   }
   return sum;
 }
+
+// Disks (centre, radius) in a uniform grid, to find those a box may meet: each disk is listed
+// in the cells its bounding box meets, or, when that is more than kMostDiskCells cells, apart
+// (asked about by every box). The cells are about as wide as the median disk, at most
+// kCellsPerDisk per disk and kMostGridCells in all.
+class DiskGrid
+{
+public:
+  DiskGrid(const std::vector<Vec2>& centre, const std::vector<double>& radius)
+    : Seen(centre.size(), 0)
+  {
+    const std::size_t n = centre.size();
+    if (n == 0)
+    {
+      return;
+    }
+    Vec2 lo{ HUGE_VAL, HUGE_VAL }, hi{ -HUGE_VAL, -HUGE_VAL };
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      lo = { std::min(lo.x, centre[i].x - radius[i]), std::min(lo.y, centre[i].y - radius[i]) };
+      hi = { std::max(hi.x, centre[i].x + radius[i]), std::max(hi.y, centre[i].y + radius[i]) };
+    }
+    std::vector<double> sizes(radius);
+    std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
+    const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+    this->Cell = std::max({ 2.0 * sizes[n / 2], extent / 1024.0, 1e-300 });
+    // (At most kCellsPerDisk cells a disk: a larger grid's offsets leave the cache, and each
+    // box's look at them costs more than the disks it spares.)
+    const double most =
+      static_cast<double>(std::min(kMostGridCells, kCellsPerDisk * n + kCellsPerDisk));
+    while ((std::floor((hi.x - lo.x) / this->Cell) + 1.0) *
+        (std::floor((hi.y - lo.y) / this->Cell) + 1.0) >
+      most)
+    {
+      this->Cell *= 2.0;
+    }
+    this->Origin = lo;
+    this->Nx = static_cast<int>(std::floor((hi.x - lo.x) / this->Cell)) + 1;
+    this->Ny = static_cast<int>(std::floor((hi.y - lo.y) / this->Cell)) + 1;
+    // Each disk's cells (x0, x1, y0, y1).
+    std::vector<std::array<int, 4>> cells(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      std::array<int, 4>& b = cells[i];
+      const Vec2 r{ radius[i], radius[i] };
+      this->range(centre[i] - r, centre[i] + r, b[0], b[1], b[2], b[3]);
+      if ((static_cast<std::size_t>(b[1] - b[0]) + 1) *
+          (static_cast<std::size_t>(b[3] - b[2]) + 1) >
+        kMostDiskCells)
+      {
+        this->Apart.push_back(static_cast<int>(i));
+        b = { 0, -1, 0, -1 }; // (in no cell)
+      }
+    }
+    groupIntoRows(static_cast<std::size_t>(this->Nx) * this->Ny,
+      this->Start,
+      this->Items,
+      [&](auto&& emit)
+      {
+        for (std::size_t i = 0; i < n; ++i)
+        {
+          for (int y = cells[i][2]; y <= cells[i][3]; ++y)
+          {
+            for (int x = cells[i][0]; x <= cells[i][1]; ++x)
+            {
+              emit(static_cast<std::size_t>(y) * this->Nx + x, static_cast<int>(i));
+            }
+          }
+        }
+      });
+  }
+
+  // Calls f(i) once for each disk whose bounding box may meet the box [lo, hi] (every disk
+  // that does, and perhaps others).
+  template<typename F>
+  void forEachNear(Vec2 lo, Vec2 hi, F&& f)
+  {
+    ++this->Stamp;
+    if (!this->Start.empty())
+    {
+      int x0, x1, y0, y1;
+      this->range(lo, hi, x0, x1, y0, y1);
+      for (int y = y0; y <= y1; ++y)
+      {
+        for (int x = x0; x <= x1; ++x)
+        {
+          const std::size_t c = static_cast<std::size_t>(y) * this->Nx + x;
+          for (std::size_t k = this->Start[c]; k < this->Start[c + 1]; ++k)
+          {
+            const int i = this->Items[k];
+            if (this->Seen[i] != this->Stamp)
+            {
+              this->Seen[i] = this->Stamp;
+              f(i);
+            }
+          }
+        }
+      }
+    }
+    for (const int i : this->Apart)
+    {
+      f(i);
+    }
+  }
+
+private:
+  static constexpr std::size_t kMostGridCells = std::size_t(1) << 20;
+  static constexpr std::size_t kCellsPerDisk = 4;
+  static constexpr std::size_t kMostDiskCells = 64;
+
+  int cellOf(double v, double origin, int count) const
+  {
+    const double c = std::floor((v - origin) / this->Cell);
+    return static_cast<int>(std::min(std::max(c, 0.0), static_cast<double>(count - 1)));
+  }
+  // The cells of the box, clamped to the grid (a box beside the grid meets its border cells:
+  // more candidates, never fewer).
+  void range(Vec2 lo, Vec2 hi, int& x0, int& x1, int& y0, int& y1) const
+  {
+    x0 = this->cellOf(lo.x, this->Origin.x, this->Nx);
+    x1 = this->cellOf(hi.x, this->Origin.x, this->Nx);
+    y0 = this->cellOf(lo.y, this->Origin.y, this->Ny);
+    y1 = this->cellOf(hi.y, this->Origin.y, this->Ny);
+  }
+
+  double Cell = 1.0;
+  Vec2 Origin{ 0.0, 0.0 };
+  int Nx = 0, Ny = 0;
+  std::vector<std::size_t> Start;
+  std::vector<int> Items, Apart;
+  std::vector<std::size_t> Seen;
+  std::size_t Stamp = 0;
+};
 
 // The arc length along the polyline of a point within tol of it (its first such segment), or -1.
 double arcAlong(const std::vector<Vec2>& line, Vec2 p, double tol)
@@ -1595,31 +1731,67 @@ void Refiner::flipToDelaunayNear(std::vector<int> changed)
 {
   changed.insert(changed.end(), this->Unsettled.begin(), this->Unsettled.end());
   this->Unsettled.clear();
-  sortUnique(changed);
   // Their edges as the sweep of flipToDelaunay() names them (from the lower-numbered triangle),
   // in its order, those that need a flip.
-  LargeVector<std::array<int, 2>> stack;
-  for (const int t : changed)
+  const auto owned = [this](int t, int k, auto&& take)
   {
-    for (int k = 0; k < 3; ++k)
+    const int u = this->Nbr[t][k];
+    if (u > t)
     {
-      const int u = this->Nbr[t][k];
-      if (u > t)
+      take(t, k);
+    }
+    else if (u >= 0)
+    {
+      const auto& nu = this->Nbr[u];
+      take(u, nu[0] == t ? 0 : (nu[1] == t ? 1 : 2));
+    }
+  };
+  LargeVector<std::array<int, 2>> stack;
+  const std::size_t nt = this->M.triangles.size();
+  if (changed.size() > nt / kManyChanged)
+  {
+    // Many (a pass's recovery changed much of the mesh): the edges flagged per triangle and
+    // read in increasing order, with progress reports, instead of sorted (the same edges in
+    // the same order; with tens of thousands of input points two sorts here took 0.5 s at 1 M
+    // triangles without a report).
+    LargeVector<std::uint8_t> edges(nt, 0);
+    for (const int t : changed)
+    {
+      this->poll();
+      for (int k = 0; k < 3; ++k)
       {
-        stack.push_back({ t, k });
+        owned(t, k, [&](int o, int ok) { edges[o] |= static_cast<std::uint8_t>(1 << ok); });
       }
-      else if (u >= 0)
+    }
+    for (std::size_t t = 0; t < nt; ++t)
+    {
+      this->poll();
+      for (int k = 0; k < 3; ++k)
       {
-        const auto& nu = this->Nbr[u];
-        stack.push_back({ u, nu[0] == t ? 0 : (nu[1] == t ? 1 : 2) });
+        const int ti = static_cast<int>(t);
+        if ((edges[t] >> k & 1) && this->needsFlip(ti, k))
+        {
+          stack.push_back({ ti, k });
+        }
       }
     }
   }
-  sortUnique(stack);
-  stack.erase(std::remove_if(stack.begin(),
-                stack.end(),
-                [this](const std::array<int, 2>& e) { return !this->needsFlip(e[0], e[1]); }),
-    stack.end());
+  else
+  {
+    sortUnique(changed);
+    for (const int t : changed)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        owned(t, k, [&](int o, int ok) { stack.push_back({ o, ok }); });
+      }
+    }
+    sortUnique(stack);
+    stack.erase(std::remove_if(stack.begin(),
+                  stack.end(),
+                  [this](const std::array<int, 2>& e) { return !this->needsFlip(e[0], e[1]); }),
+      stack.end());
+  }
   this->flipStacked(stack);
 }
 
@@ -3755,6 +3927,21 @@ bool Refiner::keepCorner(const SharpCorner& c,
   // the region near the tip, cut off from the body by the neighbour's) is no part of it.
   const std::vector<int> body =
     cut ? this->regionBody(all, c.region, c.apex, reach) : std::vector<int>();
+  // Each side's bounding box, widened: a vertex outside it lies on no segment of the side
+  // (arcAlong() finds none), so its segments are not walked (with thousands of corners along
+  // zigzag curves that walk made most of a run).
+  Vec2 sideLo[2], sideHi[2];
+  for (int s = 0; s < 2; ++s)
+  {
+    sideLo[s] = sideHi[s] = sides[s]->front();
+    for (const Vec2& q : *sides[s])
+    {
+      sideLo[s] = { std::min(sideLo[s].x, q.x), std::min(sideLo[s].y, q.y) };
+      sideHi[s] = { std::max(sideHi[s].x, q.x), std::max(sideHi[s].y, q.y) };
+    }
+    sideLo[s] = sideLo[s] - Vec2{ 2.0 * tol, 2.0 * tol };
+    sideHi[s] = sideHi[s] + Vec2{ 2.0 * tol, 2.0 * tol };
+  }
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
   {
     this->poll();
@@ -3774,9 +3961,12 @@ bool Refiner::keepCorner(const SharpCorner& c,
       }
       else if (d2 <= reach * reach)
       {
+        const Vec2 p = this->X(v);
         for (int s = 0; s < 2; ++s)
         {
-          const double a = arcAlong(*sides[s], this->X(v), tol);
+          const bool inBox =
+            p.x >= sideLo[s].x && p.x <= sideHi[s].x && p.y >= sideLo[s].y && p.y <= sideHi[s].y;
+          const double a = inBox ? arcAlong(*sides[s], p, tol) : -1.0;
           if (a >= 0.0)
           {
             onSide[s].push_back(a);
@@ -4157,50 +4347,54 @@ std::size_t Refiner::extendWedges()
     return 0;
   }
   // Each corner looks at the triangles with a vertex within twice its sides' reach of its apex
-  // (keepCorner()'s checks go no farther), found in one sweep over the corners by abscissa;
-  // the triangles an extension makes join the lists.
+  // (keepCorner()'s checks go no farther), found through a grid of those disks (a model with a
+  // few thousand sharp corners along its curves made a sweep of the corners by abscissa take
+  // most of a run); the triangles an extension makes join the lists.
   const std::size_t nc = corners.size();
-  std::vector<double> reach2(nc);
-  std::vector<int> order(nc);
-  double most = 0.0;
+  std::vector<double> reach(nc), reach2(nc);
+  std::vector<Vec2> apex(nc);
   for (std::size_t i = 0; i < nc; ++i)
   {
-    const double reach =
-      2.0 * std::max(polylineLength(corners[i].first), polylineLength(corners[i].second));
-    reach2[i] = reach * reach;
-    most = std::max(most, reach);
-    order[i] = static_cast<int>(i);
+    reach[i] = 2.0 * std::max(polylineLength(corners[i].first), polylineLength(corners[i].second));
+    reach2[i] = reach[i] * reach[i];
+    apex[i] = corners[i].apex;
   }
-  std::sort(order.begin(),
-    order.end(),
-    [&](int a, int b) { return corners[a].apex.x < corners[b].apex.x; });
+  DiskGrid disks(apex, reach);
   std::vector<std::vector<int>> local(nc);
+  // The lists an extension added to, to be sorted again (the others stay sorted: a model with
+  // a few thousand sharp corners sorted every list after every extension).
+  std::vector<int> grown;
+  std::vector<char> isGrown(nc, 0);
   const auto add = [&](std::size_t t)
   {
     const auto& tri = this->M.triangles[t];
-    const double xmin = std::min({ this->X(tri[0]).x, this->X(tri[1]).x, this->X(tri[2]).x });
-    const double xmax = std::max({ this->X(tri[0]).x, this->X(tri[1]).x, this->X(tri[2]).x });
-    auto it = std::lower_bound(order.begin(),
-      order.end(),
-      xmin - most,
-      [&](int i, double x) { return corners[i].apex.x < x; });
-    for (; it != order.end() && corners[*it].apex.x <= xmax + most; ++it)
-    {
-      for (int v : tri)
+    const Vec2 a = this->X(tri[0]), b = this->X(tri[1]), c = this->X(tri[2]);
+    disks.forEachNear({ std::min({ a.x, b.x, c.x }), std::min({ a.y, b.y, c.y }) },
+      { std::max({ a.x, b.x, c.x }), std::max({ a.y, b.y, c.y }) },
+      [&](int i)
       {
-        if (norm2(this->X(v) - corners[*it].apex) <= reach2[*it])
+        for (int v : tri)
         {
-          local[*it].push_back(static_cast<int>(t));
-          break;
+          if (norm2(this->X(v) - apex[i]) <= reach2[i])
+          {
+            local[i].push_back(static_cast<int>(t));
+            if (!isGrown[i])
+            {
+              isGrown[i] = 1;
+              grown.push_back(i);
+            }
+            break;
+          }
         }
-      }
-    }
+      });
   };
   for (std::size_t t = 0; t < this->M.triangles.size(); ++t)
   {
     this->poll();
     add(t);
   }
+  std::fill(isGrown.begin(), isGrown.end(), 0); // (lists made in increasing order)
+  grown.clear();
   std::size_t extended = 0;
   this->Keeping = true;
   for (std::size_t i = 0; i < nc && this->Inserted < this->Budget; ++i)
@@ -4229,10 +4423,12 @@ std::size_t Refiner::extendWedges()
       {
         add(t);
       }
-      for (std::vector<int>& list : local)
+      for (const int c : grown)
       {
-        sortUnique(list);
+        sortUnique(local[c]);
+        isGrown[c] = 0;
       }
+      grown.clear();
     }
   }
   this->Keeping = false;

@@ -2,12 +2,16 @@
 // three grid levels giving about 1e4, 1e5 and 1e6 triangles, with the default settings
 // (BM_TriangulateGulfSection: the paper's method and the optimization beyond it) and with
 // the paper's method alone (BM_TriangulateGulfSectionPaperMethod: Optimization off, the
-// method issue 4 delivers). Counters: triangles, vertices, smallest angle, simulation steps,
+// method issue 4 delivers). Counters: triangles, vertices, smallest angle, the boundary's
+// largest deviation in local edges (MaxRelativeBoundaryDeviation), simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
 // progress calls (the abort latency; the label names the stages of the two calls around it),
 // and the machine's memory latency around the runs (memory_latency_ns: one dependent read at
 // random in 64 MiB, the mean of a probe before the runs and one after; this machine's slow
 // minutes are slow memory, see memoryLatency()).
+// BM_TriangulatePickedHorizons: the default settings (automatic sizes) on a seismic line's
+// picked horizons (pickedHorizons(): one pick per trace, tens of thousands of input points),
+// for the stages' cost in the input's size rather than the mesh's.
 // BM_AbortGulfSection: the time an abort asked N ms into a 1 M-triangle run takes to return.
 // BM_TwoHalves: the cost of one strata::bothHalves() call
 // with two empty halves, back to back or after a pause of the argument's microseconds (the
@@ -21,6 +25,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -74,11 +79,86 @@ double memoryLatency()
   return 1e9 * seconds / kReads;
 }
 
-void triangulateGulfSection(benchmark::State& state, bool optimize)
+// A seismic line's horizons as picked, in the Shared curves form: `horizons` smooth layers
+// (thickness varying by up to 80% along the line, at least 5% of the mean) across a section
+// 20 km wide and 4 km deep, one pick per trace (12.5 m apart: 1601 per horizon), each off its
+// smooth layer by a normal jitter of `jitter` metres (a seismic sample is a few metres), no layer
+// thinner than 4 jitters; a top curve and the sides close the regions. Deterministic (xorshift64,
+// Box-Muller).
+strata::RawPolylines pickedHorizons(int horizons, double jitter)
 {
-  strata::MesherParams params;
-  params.grid.maxLevel = static_cast<int>(state.range(0));
-  params.compression.optimize = optimize;
+  constexpr double kWidth = 20000.0, kDepth = 4000.0, kTrace = 12.5, kPi = 3.14159265358979323846;
+  constexpr int kTraces = static_cast<int>(kWidth / kTrace) + 1;
+  std::uint64_t seed = 0x9E3779B97F4A7C15ull + static_cast<std::uint64_t>(horizons);
+  const auto uniform = [&]()
+  {
+    seed ^= seed << 13;
+    seed ^= seed >> 7;
+    seed ^= seed << 17;
+    return (static_cast<double>(seed >> 11) + 0.5) / 9007199254740992.0; // (0, 1)
+  };
+  const auto normal = [&]()
+  { return std::sqrt(-2.0 * std::log(uniform())) * std::cos(2.0 * kPi * uniform()); };
+  const double mean = kDepth / (horizons + 1);
+  std::vector<std::vector<double>> depth(1, std::vector<double>(kTraces, 0.0));
+  std::vector<double> smooth(kTraces, 0.0);
+  for (int k = 1; k <= horizons; ++k)
+  {
+    const double t = mean * (0.3 + 1.2 * uniform());
+    const double waves = 0.5 + 3.5 * uniform(), phase = 6.0 * uniform();
+    std::vector<double> y(kTraces);
+    for (int i = 0; i < kTraces; ++i)
+    {
+      const double x = i * kTrace;
+      smooth[i] +=
+        std::max(t * (1.0 + 0.8 * std::sin(2.0 * kPi * waves * x / kWidth + phase)), 0.05 * t);
+      y[i] = std::max(smooth[i] + jitter * normal(), depth.back()[i] + 4.0 * jitter);
+    }
+    depth.push_back(std::move(y));
+  }
+  std::vector<double> top(depth.back());
+  for (double& y : top)
+  {
+    y += mean;
+  }
+  depth.push_back(std::move(top));
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::SharedCurves;
+  raw.offsets.push_back(0);
+  const auto curve = [&](const std::vector<strata::Vec2>& points, int left, int right)
+  {
+    for (const strata::Vec2& p : points)
+    {
+      raw.connectivity.push_back(static_cast<std::int64_t>(raw.points.size()));
+      raw.points.push_back(p);
+    }
+    raw.offsets.push_back(static_cast<std::int64_t>(raw.connectivity.size()));
+    raw.leftRegion.push_back(left);
+    raw.rightRegion.push_back(right);
+  };
+  const int curves = static_cast<int>(depth.size()); // regions 0 .. curves - 2, bottom up
+  for (int k = 0; k < curves; ++k)
+  {
+    std::vector<strata::Vec2> line(kTraces);
+    for (int i = 0; i < kTraces; ++i)
+    {
+      line[i] = { i * kTrace, depth[k][i] };
+    }
+    curve(line, k + 1 < curves ? k : -1, k - 1); // (walking east: the layer above on the left)
+  }
+  for (int k = 0; k + 1 < curves; ++k)
+  {
+    curve({ { 0.0, depth[k].front() }, { 0.0, depth[k + 1].front() } }, -1, k);
+    curve({ { kWidth, depth[k].back() }, { kWidth, depth[k + 1].back() } }, k, -1);
+  }
+  return raw;
+}
+
+// Runs triangulate on `raw` as the benchmark's iterations and sets its counters.
+void triangulateModel(benchmark::State& state,
+  const strata::RawPolylines& raw,
+  const strata::MesherParams& params)
+{
   strata::MesherResult result;
   double longestGap = 0.0;
   std::string gapStage, lastStage; // the stage of the report that ended the longest gap
@@ -86,7 +166,7 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   for (auto _ : state)
   {
     auto previous = std::chrono::steady_clock::now();
-    result = strata::triangulate(gulf(),
+    result = strata::triangulate(raw,
       params,
       [&](double, const char* stage)
       {
@@ -106,6 +186,7 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   state.counters["triangles"] = static_cast<double>(result.summary.triangles);
   state.counters["vertices"] = static_cast<double>(result.summary.vertices);
   state.counters["min_angle"] = result.summary.minAngle;
+  state.counters["boundary_local_edges"] = result.summary.maxRelativeDeviation;
   state.counters["iterations"] = result.summary.iterations;
   state.counters["s_total"] = result.summary.totalSeconds;
   state.counters["max_progress_gap_s"] = longestGap;
@@ -119,6 +200,14 @@ void triangulateGulfSection(benchmark::State& state, bool optimize)
   }
 }
 
+void triangulateGulfSection(benchmark::State& state, bool optimize)
+{
+  strata::MesherParams params;
+  params.grid.maxLevel = static_cast<int>(state.range(0));
+  params.compression.optimize = optimize;
+  triangulateModel(state, gulf(), params);
+}
+
 void BM_TriangulateGulfSection(benchmark::State& state)
 {
   triangulateGulfSection(state, true);
@@ -127,6 +216,16 @@ void BM_TriangulateGulfSection(benchmark::State& state)
 void BM_TriangulateGulfSectionPaperMethod(benchmark::State& state)
 {
   triangulateGulfSection(state, false);
+}
+
+// The arguments: the number of horizons (the input points: 1601 per horizon and curve) and the
+// picks' jitter in decimetres.
+void BM_TriangulatePickedHorizons(benchmark::State& state)
+{
+  const strata::RawPolylines raw =
+    pickedHorizons(static_cast<int>(state.range(0)), 0.1 * static_cast<double>(state.range(1)));
+  state.counters["input_points"] = static_cast<double>(raw.points.size());
+  triangulateModel(state, raw, strata::MesherParams());
 }
 
 // An abort asked the argument's milliseconds into a 1 M-triangle run (default settings), as a
@@ -220,6 +319,14 @@ BENCHMARK(BM_TriangulateGulfSectionPaperMethod)
   ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TriangulateGulfSectionPaperMethod)
   ->Arg(24)
+  ->Iterations(1)
+  ->Unit(benchmark::kMillisecond);
+// 10 and 30 horizons (19 k and 51 k input points) picked within 1 m; 30 within 2.5 m (a seismic
+// sample's jitter: the mesh resolves it, a few minutes).
+BENCHMARK(BM_TriangulatePickedHorizons)
+  ->Args({ 10, 10 })
+  ->Args({ 30, 10 })
+  ->Args({ 30, 25 })
   ->Iterations(1)
   ->Unit(benchmark::kMillisecond);
 

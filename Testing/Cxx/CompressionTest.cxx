@@ -138,6 +138,39 @@ TEST(CompressionTest, RailsOfSharedCurvesEndAtJunctions)
   }
 }
 
+TEST(CompressionTest, EveryChainPointOfANodeIsFoundAtThatNode)
+{
+  // salt_dome: junctions on three or more chains, curve vertices on one, closed chains.
+  const strata::Model m =
+    strata::buildModel(strata_test::readVtpAscii(strata_test::dataPath("salt_dome.vtp")));
+  const strata::BoundaryRails rails(m, 140.0);
+  std::vector<std::size_t> onChains(m.nodes.size(), 0);
+  for (std::size_t ci = 0; ci < rails.numberOfChains(); ++ci)
+  {
+    for (const int node : rails.chain(static_cast<int>(ci)).nodes)
+    {
+      ++onChains[node];
+    }
+  }
+  std::size_t junctionLocations = 0;
+  for (std::size_t node = 0; node < m.nodes.size(); ++node)
+  {
+    const auto locations = rails.locationsOfNode(static_cast<int>(node));
+    ASSERT_EQ(locations.size(), onChains[node]) << "node " << node;
+    for (const strata::BoundaryRails::Location& l : locations)
+    {
+      const int point = rails.pointAt(l);
+      ASSERT_GE(point, 0) << "node " << node;
+      EXPECT_EQ(rails.chain(l.chain).nodes[point], static_cast<int>(node));
+      EXPECT_EQ(strata::norm(rails.position(l) - m.nodes[node]), 0.0);
+    }
+    junctionLocations += locations.size() > 1 ? locations.size() : 0;
+  }
+  EXPECT_GE(junctionLocations, 3u * m.junctions.size());
+  EXPECT_TRUE(rails.locationsOfNode(-1).empty());
+  EXPECT_TRUE(rails.locationsOfNode(static_cast<int>(m.nodes.size())).empty());
+}
+
 TEST(CompressionTest, ClosestRailPointIsExact)
 {
   const strata::Model m = strata::buildModel(blob());
