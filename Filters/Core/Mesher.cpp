@@ -78,6 +78,8 @@ namespace
 {
 using Clock = std::chrono::steady_clock;
 constexpr double kPi = 3.14159265358979323846;
+// The output's background tasks look whether they are asked to stop every this + 1 items.
+constexpr std::size_t kStopCheck = 0xFFFF;
 // A region whose triangles cover less than this share of its model area is reported as
 // unresolved (too thin or too small for the finest triangles).
 constexpr double kUnresolvedFraction = 0.5;
@@ -1805,7 +1807,8 @@ std::string brokenRegions(const Model& model,
   const MesherResult& result,
   const DirectedEdges& edges,
   double floor,
-  std::vector<int>& broken)
+  std::vector<int>& broken,
+  const std::atomic<bool>& stop)
 {
   const std::size_t nt = result.triangles.size();
   LargeVector<int> parent(nt);
@@ -1816,6 +1819,10 @@ std::string brokenRegions(const Model& model,
   const auto find = [&parent](int t) { return rootOf(parent, t); };
   for (std::size_t a = 0; a + 1 < edges.start.size(); ++a)
   {
+    if ((a & kStopCheck) == 0 && stop.load(std::memory_order_relaxed))
+    {
+      return {}; // (the caller aborted: nothing is read)
+    }
     for (int s = edges.start[a]; s < edges.start[a + 1]; ++s)
     {
       const auto [b, t] = edges.out[s];
@@ -1967,8 +1974,11 @@ RefinedOutcome refinedOutcome(const CompressionResult& mesh,
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
   const LargeVector<std::array<int, 3>>& triangles,
   const LargeVector<int>& region,
-  std::vector<std::vector<int>>* vertices)
+  std::vector<std::vector<int>>* vertices,
+  const std::atomic<bool>* stop)
 {
+  const auto stopped = [stop](std::size_t i)
+  { return (i & kStopCheck) == 0 && stop && stop->load(std::memory_order_relaxed); };
   if (vertices)
   {
     vertices->clear();
@@ -2012,6 +2022,10 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
   std::vector<BEdge> edges;
   for (std::size_t a = 0; a < np; ++a)
   {
+    if (stopped(a))
+    {
+      return {};
+    }
     for (int s = start[a]; s < start[a + 1]; ++s)
     {
       const int b = out[s].first;
@@ -2084,6 +2098,10 @@ std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<
   };
   for (std::size_t e = 0; e < edges.size(); ++e)
   {
+    if (stopped(e))
+    {
+      return {};
+    }
     if (!used[e] && !passes(edges[e].a))
     {
       follow(static_cast<int>(e));
@@ -2330,11 +2348,14 @@ MesherResult triangulateOnce(const RawPolylines& input,
   // this one sums up the quality and finds the mesh's directed edges.
   std::vector<std::vector<int>> boundaryIds;
   Background boundaryTask(
-    [&]
+    [&](const std::atomic<bool>& stop)
     {
       result.boundary =
-        approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds);
+        approximatedBoundary(result.points, result.triangles, result.regionId, &boundaryIds, &stop);
     });
+  // (Its waits report while the task runs: at 2 M triangles it outlasts the steps here by up to
+  // 0.2 s, the abort's bound.)
+  const auto tick = [&] { progress.report(kOutputProgress, "writing the mesh"); };
   // (Reports between the steps while the boundary is made: at 1 M they took 0.07 s together.)
   const QualitySummary qs = summarizeQuality(q);
   progress.report(kOutputProgress, "writing the mesh");
@@ -2413,7 +2434,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
   const DirectedEdges edges(result.points.size(), result.triangles);
   progress.report(kOutputProgress, "writing the mesh");
   // Approximated boundary, vertex classes.
-  boundaryTask.wait();
+  boundaryTask.wait(tick);
   progress.report(kOutputProgress, "writing the mesh");
   result.vertexClass.assign(result.points.size(), VertexInterior);
   const double medianEdge = medianBoundaryEdge(result.boundary);
@@ -2425,8 +2446,10 @@ MesherResult triangulateOnce(const RawPolylines& input,
   std::string broken;
   std::vector<int> brokenIds;
   Background piecesTask(
-    [&] {
-      broken = brokenRegions(model, result, edges, kPieceFloor * pieceEdge * pieceEdge, brokenIds);
+    [&](const std::atomic<bool>& stop)
+    {
+      broken =
+        brokenRegions(model, result, edges, kPieceFloor * pieceEdge * pieceEdge, brokenIds, stop);
     });
   // Boundary vertices: ends of an edge whose two sides have different regions (or one side
   // no triangle), the approximated boundary's vertices (every such edge is on one of its
@@ -3276,7 +3299,7 @@ MesherResult triangulateOnce(const RawPolylines& input,
                               "than half of their area (region id and % of its area kept): " +
       unresolved + "; raise LocalMaxLevel or lower MinimumEdgeLength to keep them");
   }
-  piecesTask.wait();
+  piecesTask.wait(tick);
   result.brokenRegions = std::move(brokenIds);
   if (!broken.empty())
   {

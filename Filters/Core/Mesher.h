@@ -12,6 +12,7 @@
 #include "Progress.h"
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -305,11 +306,13 @@ bool keepsTheMeshTowardThirty(const MesherResult& asked,
 
 /// The approximated boundary of a region-tagged triangle mesh (see MesherResult::boundary):
 /// triangles with region -1 count as absent. With `vertices`, also the ids of each curve's
-/// points.
+/// points. With `stop`, returns early (what it has, to be dropped) once *stop is true (a caller
+/// aborted while this ran on another thread).
 std::vector<MesherResult::BoundaryCurve> approximatedBoundary(const LargeVector<Vec2>& points,
   const LargeVector<std::array<int, 3>>& triangles,
   const LargeVector<int>& region,
-  std::vector<std::vector<int>>* vertices = nullptr);
+  std::vector<std::vector<int>>* vertices = nullptr,
+  const std::atomic<bool>* stop = nullptr);
 
 } // namespace strata
 

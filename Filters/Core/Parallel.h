@@ -232,7 +232,10 @@ void bothHalves(First&& first, Second&& second)
 /// (and a thread can be started), else at once, in the constructor. wait() returns when it is
 /// done and rethrows what it threw; the destructor waits too (dropping what it threw), so an
 /// exception of the caller's (Aborted) leaves no thread behind. The task may not report
-/// progress, and may read only what the caller does not write until wait().
+/// progress, and may read only what the caller does not write until wait(). A task taking a
+/// `const std::atomic<bool>&` is given a flag that turns true when the caller no longer wants
+/// its result (the destructor before wait(), or wait(tick)'s tick threw): it may then return
+/// at once, its result unread.
 class Background
 {
 public:
@@ -243,12 +246,20 @@ public:
     {
       try
       {
-        task();
+        if constexpr (std::is_invocable_v<decltype(task)&, const std::atomic<bool>&>)
+        {
+          task(static_cast<const std::atomic<bool>&>(this->Stop));
+        }
+        else
+        {
+          task();
+        }
       }
       catch (...)
       {
         this->Error = std::current_exception();
       }
+      this->Done.store(true, std::memory_order_release);
     };
     if (twoCores())
     {
@@ -270,6 +281,7 @@ public:
   {
     if (this->Thread.joinable())
     {
+      this->Stop.store(true, std::memory_order_relaxed);
       this->Thread.join();
     }
   }
@@ -286,10 +298,35 @@ public:
       std::rethrow_exception(error);
     }
   }
+  /// wait(), calling tick() (a progress report) every kTickMilliseconds while the task runs:
+  /// a task longer than the abort's bound does not hold the caller's reports back. When tick()
+  /// throws (Aborted), the task is asked to stop and joined, and the exception goes on.
+  template<class Tick>
+  void wait(Tick&& tick)
+  {
+    while (this->Thread.joinable() && !this->Done.load(std::memory_order_acquire))
+    {
+      try
+      {
+        tick();
+      }
+      catch (...)
+      {
+        this->Stop.store(true, std::memory_order_relaxed);
+        this->Thread.join();
+        throw;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(kTickMilliseconds));
+    }
+    this->wait();
+  }
 
 private:
+  static constexpr int kTickMilliseconds = 10;
   std::thread Thread;
   std::exception_ptr Error;
+  std::atomic<bool> Stop{ false };
+  std::atomic<bool> Done{ false };
 };
 /// Runs work(from, to, part) over [0, n) in blocks of at most `block` items, in order: each
 /// block's two halves at once (bothHalves: part 0 on this thread, part 1 perhaps on another)

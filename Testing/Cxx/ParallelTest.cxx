@@ -228,6 +228,96 @@ TEST(ParallelTest, AnExceptionOfTheCallerWaitsForTheBackgroundTask)
   EXPECT_EQ(done.load(), 1);
 }
 
+namespace
+{
+// A background task that runs for 10 s unless asked to stop, and records whether it was.
+auto untilAskedToStop(std::atomic<bool>& sawStop)
+{
+  return [&sawStop](const std::atomic<bool>& stop)
+  {
+    const auto begin = std::chrono::steady_clock::now();
+    while (!stop.load() && std::chrono::steady_clock::now() - begin < std::chrono::seconds(10))
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    sawStop = stop.load();
+  };
+}
+} // namespace
+
+TEST(ParallelTest, AWaitWithTicksTicksWhileTheTaskRunsAndGivesItsResult)
+{
+  // A task of about 100 ms: the wait ticks every 10 ms or so meanwhile (with two cores), and
+  // the task's writes are seen after it, as with wait().
+  int ticks = 0;
+  std::vector<int> values;
+  strata::Background task(
+    [&]
+    {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      values.assign(1000, 7);
+    });
+  task.wait([&] { ++ticks; });
+  ASSERT_EQ(values.size(), 1000u);
+  EXPECT_EQ(values.back(), 7);
+  if (std::thread::hardware_concurrency() >= 2)
+  {
+    EXPECT_GE(ticks, 3);
+    EXPECT_LE(ticks, 11);
+  }
+  // What the task throws is rethrown.
+  strata::Background failing([] { throw Stop(); });
+  EXPECT_THROW(failing.wait([] {}), Stop);
+}
+
+TEST(ParallelTest, AnAbortWhileWaitingAsksTheTaskToStopAndReturnsSoon)
+{
+  // The task would run for 10 s unless asked to stop; the third tick throws (an abort): the
+  // task sees the flag, the wait joins it and rethrows, long before the 10 s.
+  std::atomic<bool> sawStop{ false };
+  int ticks = 0;
+  const auto start = std::chrono::steady_clock::now();
+  const auto caller = [&]
+  {
+    strata::Background task(untilAskedToStop(sawStop));
+    task.wait(
+      [&]
+      {
+        if (++ticks == 3)
+        {
+          throw Stop();
+        }
+      });
+  };
+  if (std::thread::hardware_concurrency() < 2)
+  {
+    GTEST_SKIP() << "one core: the task runs in the constructor, before any wait";
+  }
+  EXPECT_THROW(caller(), Stop);
+  EXPECT_TRUE(sawStop.load());
+  EXPECT_EQ(ticks, 3);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+}
+
+TEST(ParallelTest, AnExceptionOfTheCallerBeforeTheWaitAsksTheTaskToStop)
+{
+  // The caller throws before it waits: the destructor raises the flag, then joins.
+  std::atomic<bool> sawStop{ false };
+  const auto caller = [&]
+  {
+    strata::Background task(untilAskedToStop(sawStop));
+    throw Stop();
+  };
+  if (std::thread::hardware_concurrency() < 2)
+  {
+    GTEST_SKIP() << "one core: the task runs in the constructor, before any wait";
+  }
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(caller(), Stop);
+  EXPECT_TRUE(sawStop.load());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+}
+
 TEST(ParallelTest, BothHalvesRunOnceAndTheSecondsWritesAreSeenAfterTheCall)
 {
   // Many calls in a row (the second thread spinning between them) and calls further apart
