@@ -46,6 +46,21 @@ void expectWarningsSay(const strata::MesherResult& r, std::initializer_list<cons
   }
 }
 
+// The mesh ThinLayerRetry's levels kept is the one at `level` and meets issue 4's bounds: the
+// boundary within half a local edge, the areas within 0.5%, its boundary vertices on the curves,
+// and no triangle that no input corner forces below `angleAbove` degrees.
+void expectKeptLevelMeetsTheBounds(const strata::RawPolylines& raw,
+  const strata::MesherResult& r,
+  int level,
+  double angleAbove)
+{
+  EXPECT_EQ(r.summary.localMaxLevel, level);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
+  EXPECT_GT(r.summary.minAngleUnforced, angleAbove);
+  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
+}
+
 // How many meshes of a finer level were made and not kept (stages of the one kept).
 long discardedLevelRuns(const strata::MesherResult& r)
 {
@@ -2682,11 +2697,7 @@ TEST(MesherTest, TheBoundaryFigureTellsABoundaryMoreThanALocalEdgeOff)
 TEST(MesherTest, AFinerMeshNotKeptDoesNotEndTheLevelsWhileTheKeptOneMisses)
 {
   const auto [raw, r] = madeByDefault("eleven_sector_pie.vtp");
-  EXPECT_EQ(r.summary.localMaxLevel, 23);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_GT(r.summary.minAngleUnforced, 29.0);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
-  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
+  expectKeptLevelMeetsTheBounds(raw, r, 23, 29.0);
   expectWarningsSay(r,
     { "the mesh at LocalMaxLevel 17 had its boundary",
       "so it was made again at LocalMaxLevel 21 (",
@@ -2705,11 +2716,7 @@ TEST(MesherTest, AFinerMeshNotKeptDoesNotEndTheLevelsWhileTheKeptOneMisses)
 TEST(MesherTest, ABoundaryStillMoreThanALocalEdgeOffLeadsToOneLevelMore)
 {
   const auto [raw, r] = madeByDefault("eight_horizon_fan_section.vtp");
-  EXPECT_EQ(r.summary.localMaxLevel, 22);
-  EXPECT_LE(r.summary.maxRelativeDeviation, 0.5);
-  EXPECT_GT(r.summary.minAngleUnforced, 25.0);
-  EXPECT_LE(r.summary.maxRegionAreaError, 0.005);
-  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
+  expectKeptLevelMeetsTheBounds(raw, r, 22, 25.0);
   expectWarningsSay(r,
     { "so it was made again at LocalMaxLevel 20 (",
       "; the second one is kept, but it had its boundary 1.2721 local edges off",
