@@ -232,15 +232,19 @@ struct RefinementResult
 /// The triangles around each point of a triangle list: those around point v are
 /// items[start[v]] .. items[start[v + 1] - 1], in increasing order. Point ids must lie in
 /// [0, numberOfPoints). With `only` (numberOfPoints flags), the stars of the flagged points
-/// alone (the others empty).
+/// alone (the others empty). With `tick` (a progress report, which may throw), it is called
+/// every kStarsTick triangles of each of the two passes over them: at 2 M triangles the
+/// stars' first writes take 0.1-0.3 s.
 struct PointStars
 {
   LargeVector<int> start; ///< numberOfPoints + 1 offsets
   LargeVector<int> items; ///< triangle ids
 };
+constexpr std::size_t kStarsTick = std::size_t(1) << 16;
 PointStars pointStars(std::size_t numberOfPoints,
   const LargeVector<std::array<int, 3>>& triangles,
-  const std::vector<char>* only = nullptr);
+  const std::vector<char>* only = nullptr,
+  const std::function<void()>& tick = {});
 
 /// Answers of RefinementParams::regionsNear a caller already has for the centroids of a mesh's
 /// triangles, each asked with its centroid and its longest edge as `within` (as the curve

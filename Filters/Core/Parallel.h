@@ -13,6 +13,7 @@
 #include <system_error>
 #include <thread>
 #include <type_traits>
+#include <utility>
 #include <vector>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -354,6 +355,56 @@ void blockwise(std::size_t n, std::size_t block, std::size_t threaded, Work&& wo
     }
     else
     {
+      after();
+    }
+  }
+}
+
+/// blockwise() with after() also within each block, for loops whose items differ much in cost:
+/// each block's halves are worked through in `slices` steps (about block / (2 slices) items of
+/// each half), after() running on this thread after each step. Each part is given the same
+/// items in the same order as blockwise(n, block, threaded, ...) gives it, so that what a part
+/// carries from item to item comes out the same; after() must not merge the parts' results
+/// (it may report progress, and throw Aborted). slices < 1 counts as 1.
+template<class Work, class After>
+void blockwiseInSlices(std::size_t n,
+  std::size_t block,
+  std::size_t threaded,
+  std::size_t slices,
+  Work&& work,
+  After&& after)
+{
+  slices = slices < 1 ? 1 : slices;
+  const auto step = [slices](std::size_t items) { return (items + slices - 1) / slices; };
+  for (std::size_t begin = 0; begin < n; begin += block)
+  {
+    const std::size_t end = begin + block < n ? begin + block : n;
+    if (n < threaded)
+    {
+      const std::size_t each = step(end - begin);
+      for (std::size_t from = begin; from < end; from += each)
+      {
+        work(from, from + each < end ? from + each : end, 0);
+        after();
+      }
+      continue;
+    }
+    const std::size_t middle = begin + (end - begin) / 2;
+    const std::size_t each0 = step(middle - begin), each1 = step(end - middle);
+    for (std::size_t k = 0; k < slices; ++k)
+    {
+      const auto range = [k](std::size_t from, std::size_t to, std::size_t each)
+      {
+        const std::size_t a = from + k * each < to ? from + k * each : to;
+        return std::make_pair(a, a + each < to ? a + each : to);
+      };
+      const auto first = range(begin, middle, each0), second = range(middle, end, each1);
+      if (first.first == first.second && second.first == second.second)
+      {
+        break;
+      }
+      bothHalves(
+        [&] { work(first.first, first.second, 0); }, [&] { work(second.first, second.second, 1); });
       after();
     }
   }

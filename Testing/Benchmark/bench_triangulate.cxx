@@ -6,6 +6,7 @@
 // largest deviation in local edges (MaxRelativeBoundaryDeviation), simulation steps,
 // the seconds of each stage of the last run (s_<stage>) and the longest gap between two
 // progress calls (the abort latency; the label names the stages of the two calls around it),
+// (STRATAMESH_PRINT_GAPS=SECONDS prints every gap longer than that on stderr),
 // and the machine's memory latency around the runs (memory_latency_ns: one dependent read at
 // random in 64 MiB, the mean of a probe before the runs and one after; this machine's slow
 // minutes are slow memory, see memoryLatency()).
@@ -27,6 +28,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
@@ -163,6 +167,11 @@ void triangulateModel(benchmark::State& state,
   double longestGap = 0.0;
   std::string gapStage, lastStage; // the stage of the report that ended the longest gap
   const double latencyBefore = memoryLatency();
+  // STRATAMESH_PRINT_GAPS=SECONDS: every gap between progress calls longer than that is
+  // printed on stderr, with its end (steady_clock, seconds) and the stages around it.
+  const char* printGapsText = std::getenv("STRATAMESH_PRINT_GAPS");
+  const double printGaps =
+    printGapsText ? std::atof(printGapsText) : std::numeric_limits<double>::infinity();
   for (auto _ : state)
   {
     auto previous = std::chrono::steady_clock::now();
@@ -172,6 +181,17 @@ void triangulateModel(benchmark::State& state,
       {
         const auto now = std::chrono::steady_clock::now();
         const double gap = std::chrono::duration<double>(now - previous).count();
+        if (gap > printGaps)
+        {
+          // (steady_clock is CLOCK_MONOTONIC here: `perf record -k CLOCK_MONOTONIC` and
+          // `perf script --time END-GAP,END` show what ran in the gap.)
+          std::fprintf(stderr,
+            "gap %.3f s ending at %.6f: %s -> %s\n",
+            gap,
+            std::chrono::duration<double>(now.time_since_epoch()).count(),
+            lastStage.c_str(),
+            stage);
+        }
         if (gap > longestGap)
         {
           longestGap = gap;

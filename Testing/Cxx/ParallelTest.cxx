@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -137,6 +139,75 @@ TEST(ParallelTest, AnExceptionBetweenBlocksLeavesNoThreadRunning)
                  }),
     Stop);
   EXPECT_EQ(blocks.load(), 3);
+}
+
+TEST(ParallelTest, BlockwiseInSlicesGivesEachPartTheItemsOfBlockwiseWithMoreAftersBetween)
+{
+  // Each part sees the same items in the same order as blockwise gives it (what a part carries
+  // from item to item, as the boundary measure's samples do, comes out the same); after() runs
+  // after each slice of each block, with no slice longer than its share of the block's half.
+  for (const std::size_t threaded : { std::size_t(0), std::size_t(1000000) })
+  {
+    for (const std::size_t slices :
+      { std::size_t(0), std::size_t(1), std::size_t(3), std::size_t(8), std::size_t(200) })
+    {
+      SCOPED_TRACE(std::to_string(threaded) + " threaded, " + std::to_string(slices) + " slices");
+      std::vector<int> byBlockwise[2], bySlices[2];
+      std::size_t blocks = 0;
+      strata::blockwise(
+        1000,
+        64,
+        threaded,
+        [&](std::size_t from, std::size_t to, int part)
+        {
+          for (std::size_t i = from; i < to; ++i)
+          {
+            byBlockwise[part].push_back(static_cast<int>(i));
+          }
+        },
+        [&] { ++blocks; });
+      std::size_t afters = 0, pending = 0, longest = 0;
+      strata::blockwiseInSlices(
+        1000,
+        64,
+        threaded,
+        slices,
+        [&](std::size_t from, std::size_t to, int part)
+        {
+          for (std::size_t i = from; i < to; ++i)
+          {
+            bySlices[part].push_back(static_cast<int>(i));
+          }
+          pending += to - from;
+        },
+        [&]
+        {
+          ++afters;
+          longest = std::max(longest, pending);
+          pending = 0;
+        });
+      EXPECT_EQ(bySlices[0], byBlockwise[0]);
+      EXPECT_EQ(bySlices[1], byBlockwise[1]);
+      EXPECT_EQ(bySlices[0].size() + bySlices[1].size(), 1000u);
+      EXPECT_EQ(pending, 0u) << "items after the last after()";
+      // Blocks of 64 (15, and one of 40), each in two halves of 32 (20) items, or whole with
+      // one part: each half (or block) in steps of ceil(items / slices), slices with no
+      // items left out.
+      const std::size_t n = std::max<std::size_t>(slices, 1);
+      const auto steps = [n](std::size_t items)
+      {
+        const std::size_t each = (items + n - 1) / n;
+        return (items + each - 1) / each;
+      };
+      const std::size_t perBlock = threaded == 0 ? steps(32) : steps(64);
+      const std::size_t lastBlock = threaded == 0 ? steps(20) : steps(40);
+      EXPECT_EQ(afters, 15 * perBlock + lastBlock);
+      EXPECT_LE(afters, 16 * n);
+      const std::size_t each = ((threaded == 0 ? 32 : 64) + n - 1) / n;
+      EXPECT_LE(longest, threaded == 0 ? 2 * each : each);
+      EXPECT_EQ(blocks, 16u);
+    }
+  }
 }
 
 TEST(ParallelTest, GatherInOrderGivesEachItemOnceInOrderOfItsIndex)
