@@ -292,6 +292,8 @@
 // seven of eight such tests spared).
 #include "DelaunayRefinement.h"
 
+#include "ArcIndex.h"
+
 #include "Errors.h"
 #include "Parallel.h"
 #include "Quality.h"
@@ -573,23 +575,6 @@ private:
   std::vector<std::size_t> Seen;
   std::size_t Stamp = 0;
 };
-
-// The arc length along the polyline of a point within tol of it (its first such segment), or -1.
-double arcAlong(const std::vector<Vec2>& line, Vec2 p, double tol)
-{
-  double sum = 0.0;
-  for (std::size_t j = 1; j < line.size(); ++j)
-  {
-    double u = 0.0;
-    const double l = norm(line[j] - line[j - 1]);
-    if (pointSegmentDistance2(p, line[j - 1], line[j], &u) <= tol * tol)
-    {
-      return sum + u * l;
-    }
-    sum += l;
-  }
-  return -1.0;
-}
 
 // A disk where insertions must not lower the local smallest angle (see refineDelaunay()).
 struct Zone
@@ -3950,6 +3935,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
     sideLo[s] = sideLo[s] - Vec2{ 2.0 * tol, 2.0 * tol };
     sideHi[s] = sideHi[s] + Vec2{ 2.0 * tol, 2.0 * tol };
   }
+  ArcIndex arcs[2] = { ArcIndex(*sides[0]), ArcIndex(*sides[1]) };
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
   {
     this->poll();
@@ -3974,7 +3960,7 @@ bool Refiner::keepCorner(const SharpCorner& c,
         {
           const bool inBox =
             p.x >= sideLo[s].x && p.x <= sideHi[s].x && p.y >= sideLo[s].y && p.y <= sideHi[s].y;
-          const double a = inBox ? arcAlong(*sides[s], p, tol) : -1.0;
+          const double a = inBox ? arcs[s].arc(p, tol) : -1.0;
           if (a >= 0.0)
           {
             onSide[s].push_back(a);

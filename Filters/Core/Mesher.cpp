@@ -167,9 +167,8 @@ double cornerReach(double angle, double minimumEdgeLength)
   return kKeptReach * minimumEdgeLength / std::max(std::sin(angle * kPi / 180.0), 1e-3);
 }
 
-// A corner at point i of a ring (where the angle of `region`, on the ring's left or, for -1,
-// on its right, is `angle`), with its sides up to `reach` long (and at most half the ring).
-SharpCorner ringCorner(const Ring& ring, std::size_t i, int region, double angle, double reach)
+// The length of a ring, its closing segment included.
+double ringPerimeter(const Ring& ring)
 {
   const std::size_t n = ring.points.size();
   double perimeter = 0.0;
@@ -177,6 +176,21 @@ SharpCorner ringCorner(const Ring& ring, std::size_t i, int region, double angle
   {
     perimeter += norm(ring.points[(j + 1) % n] - ring.points[j]);
   }
+  return perimeter;
+}
+
+// A corner at point i of a ring (where the angle of `region`, on the ring's left or, for -1,
+// on its right, is `angle`), with its sides up to `reach` long (and at most half the ring,
+// `perimeter` long: ringPerimeter(), made once per ring by the callers: a ring of 20 k points
+// with thousands of corners took minutes when each corner summed it again).
+SharpCorner ringCorner(const Ring& ring,
+  std::size_t i,
+  int region,
+  double angle,
+  double reach,
+  double perimeter)
+{
+  const std::size_t n = ring.points.size();
   reach = std::min(0.5 * perimeter, reach);
   SharpCorner c;
   c.apex = ring.points[i];
@@ -221,6 +235,7 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
     for (const Ring& ring : region.rings)
     {
       const std::size_t n = ring.points.size();
+      const double perimeter = ringPerimeter(ring);
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
         const double angle = ringAngle(ring, i);
@@ -230,7 +245,7 @@ std::vector<SharpCorner> sharpCorners(const Model& model,
           continue;
         }
         corners.push_back(
-          ringCorner(ring, i, region.id, angle, cornerReach(angle, minimumEdgeLength)));
+          ringCorner(ring, i, region.id, angle, cornerReach(angle, minimumEdgeLength), perimeter));
       }
     }
   }
@@ -267,13 +282,13 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
     for (const Ring& ring : region.rings)
     {
       const std::size_t n = ring.points.size();
+      const double perimeter = ringPerimeter(ring);
       for (std::size_t i = 0; i < n && n >= 3; ++i)
       {
         const double own = ringAngle(ring, i), outside = 360.0 - own;
         if (own >= minimumAngle && own < kLostTipAngle)
         {
-          corners.push_back(
-            ringCorner(ring, i, region.id, own, wedgeReach(own)));
+          corners.push_back(ringCorner(ring, i, region.id, own, wedgeReach(own), perimeter));
           continue;
         }
         const Vec2 p = ring.points[i], u = ring.points[(i + n - 1) % n] - p,
@@ -282,8 +297,7 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
         if (outside < minimumAngle && norm(w) > 0.0 &&
           regionOf(p + (0.25 * std::min(norm(u), norm(v)) / norm(w)) * w) == -1)
         {
-          corners.push_back(
-            ringCorner(ring, i, -1, outside, wedgeReach(outside)));
+          corners.push_back(ringCorner(ring, i, -1, outside, wedgeReach(outside), perimeter));
         }
         else if (own < minimumAngle && norm(w) > 0.0)
         {
@@ -296,7 +310,7 @@ std::vector<SharpCorner> wedgeCorners(const Model& model,
           const int right = regionOf(p + l * sv + d * Vec2{ sv.y, -sv.x });
           if (left != region.id && right != region.id)
           {
-            corners.push_back(ringCorner(ring, i, region.id, own, wedgeReach(own)));
+            corners.push_back(ringCorner(ring, i, region.id, own, wedgeReach(own), perimeter));
             corners.back().amongRegions = left >= 0 || right >= 0;
           }
         }

@@ -2,6 +2,7 @@
 // small meshes built by hand (regions kept, areas conserved, no inverted triangle, the angle
 // bound reached, boundary edges kept), its floors, and its preconditions.
 #include "DelaunayRefinement.h"
+#include "ArcIndex.h"
 #include "Errors.h"
 #include "Quality.h"
 
@@ -1993,4 +1994,72 @@ TEST(DelaunayRefinementTest, PointStarsListEachPointsTrianglesInOrderAndOnlyTheF
     EXPECT_EQ(starOf(some, v), only[v] ? starOf(all, v) : std::vector<int>()) << "point " << v;
   }
   EXPECT_EQ(some.items.size(), 4u);
+}
+
+TEST(DelaunayRefinementTest, PointStarsTickEveryBlockOfTrianglesInBothPassesWithTheSameStars)
+{
+  // A strip of 2.5 blocks' triangles: the tick (a progress report) runs every kStarsTick
+  // triangles of the count and of the placing, and the stars are those made without it.
+  strata::LargeVector<std::array<int, 3>> triangles;
+  const int n = static_cast<int>(5 * strata::kStarsTick / 2);
+  for (int t = 0; t < n; ++t)
+  {
+    triangles.push_back(t % 2 == 0 ? std::array<int, 3>{ t / 2, t / 2 + 1, t / 2 + n }
+                                   : std::array<int, 3>{ t / 2 + 1, t / 2 + n + 1, t / 2 + n });
+  }
+  const std::size_t np = static_cast<std::size_t>(2 * n + 2);
+  int ticks = 0;
+  const strata::PointStars ticked =
+    strata::pointStars(np, triangles, nullptr, [&ticks] { ++ticks; });
+  EXPECT_EQ(ticks, 4); // two in each pass
+  const strata::PointStars plain = strata::pointStars(np, triangles);
+  EXPECT_EQ(ticked.start, plain.start);
+  EXPECT_EQ(ticked.items, plain.items);
+  // A tick that throws (an abort) ends the call with its exception.
+  EXPECT_THROW(
+    strata::pointStars(np, triangles, nullptr, [] { throw strata::Aborted(); }), strata::Aborted);
+}
+
+TEST(DelaunayRefinementTest, AnArcIndexGivesTheArcsOfAWalkAlongTheLine)
+{
+  // Zigzag polylines (a picked horizon's jitter), along x and along y, asked at their points,
+  // at points on their segments (where two segments meet, or the line comes back near itself),
+  // and beside them: the index gives what arcAlong's walk gives, value for value.
+  std::mt19937 random(7);
+  std::normal_distribution<double> jitter(0.0, 1.5);
+  std::uniform_real_distribution<double> along(0.0, 1.0);
+  for (const bool vertical : { false, true })
+  {
+    std::vector<Vec2> line;
+    for (int i = 0; i < 2000; ++i)
+    {
+      const double a = 0.5 * i + 3000.0, b = jitter(random) + 1e5;
+      line.push_back(vertical ? Vec2{ b, a } : Vec2{ a, b });
+    }
+    for (int k = 0; k < 40; ++k) // and a stretch doubling back along itself
+    {
+      line.push_back(line[line.size() - 2 - 2 * k]);
+    }
+    const double tol = 1e-9 * 1e5;
+    strata::ArcIndex index(line);
+    std::vector<Vec2> asked;
+    for (std::size_t j = 0; j + 1 < line.size(); ++j)
+    {
+      const double u = along(random);
+      asked.push_back(line[j]);
+      asked.push_back(line[j] + u * (line[j + 1] - line[j]));
+      asked.push_back(line[j] + u * (line[j + 1] - line[j]) + Vec2{ 3 * tol, -2 * tol });
+      asked.push_back(line[j] + Vec2{ jitter(random), jitter(random) });
+    }
+    int found = 0;
+    for (const Vec2& p : asked)
+    {
+      const double walked = strata::arcAlong(line, p, tol);
+      EXPECT_EQ(index.arc(p, tol), walked) << "at (" << p.x << ", " << p.y << ")";
+      found += walked >= 0.0;
+    }
+    // (Most of the points on the line are found, most beside it not: both kinds were asked.)
+    EXPECT_GT(found, static_cast<int>(asked.size()) / 3);
+    EXPECT_LT(found, static_cast<int>(asked.size()) * 3 / 4);
+  }
 }
