@@ -112,12 +112,7 @@ private:
       box.add(q);
     }
     this->Along = box.height() > box.width(); // bins along y
-    const double scale = std::max({ std::abs(box.min.x),
-      std::abs(box.min.y),
-      std::abs(box.max.x),
-      std::abs(box.max.y),
-      box.width(),
-      box.height() });
+    const double scale = box.scale();
     // (A segment the test accepts passes within tol of p up to rounding, far below this.)
     this->Margin = 1e-10 * scale;
     this->MarginFor = tol * (1.0 + 1e-9) + this->Margin;

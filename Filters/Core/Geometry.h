@@ -72,6 +72,18 @@ struct Box2
   double width() const { return empty() ? 0.0 : max.x - min.x; }
   double height() const { return empty() ? 0.0 : max.y - min.y; }
   double diagonal() const { return empty() ? 0.0 : norm(max - min); }
+  /// The largest of its corners' coordinates (in magnitude) and of its sides: the scale of the
+  /// rounding errors of computations on its points (0 when empty).
+  double scale() const
+  {
+    return empty() ? 0.0
+                   : std::max({ std::abs(min.x),
+                       std::abs(min.y),
+                       std::abs(max.x),
+                       std::abs(max.y),
+                       width(),
+                       height() });
+  }
   Vec2 center() const { return 0.5 * (min + max); }
   /// Squared distance from p to the box (0 inside).
   double distance2(Vec2 p) const

@@ -620,12 +620,7 @@ SegmentGrid::SegmentGrid(std::vector<Vec2> a,
   {
     return; // no grid: the queries answer false
   }
-  const double scale = std::max({ std::abs(box.min.x),
-    std::abs(box.min.y),
-    std::abs(box.max.x),
-    std::abs(box.max.y),
-    box.width(),
-    box.height() });
+  const double scale = box.scale();
   this->Margin = std::max(1e-10 * scale, 1e-300);
   this->Origin = Vec2{ box.min.x - 2.0 * this->Margin, box.min.y - 2.0 * this->Margin };
   const double width = box.width() + 4.0 * this->Margin;
