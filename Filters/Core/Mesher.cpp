@@ -181,8 +181,8 @@ double ringPerimeter(const Ring& ring)
 
 // A corner at point i of a ring (where the angle of `region`, on the ring's left or, for -1,
 // on its right, is `angle`), with its sides up to `reach` long (and at most half the ring,
-// `perimeter` long: ringPerimeter(), made once per ring by the callers: a ring of 20 k points
-// with thousands of corners took minutes when each corner summed it again).
+// `perimeter` long: ringPerimeter(), made once per ring by the callers; each corner summing it
+// again took 44 s of a 91 s run of four zigzag horizons of 40 k points).
 SharpCorner ringCorner(const Ring& ring,
   std::size_t i,
   int region,
