@@ -99,7 +99,9 @@ private:
   int binOf(double c) const
   {
     const double b = std::floor((c - this->Lo) * this->InvWidth);
-    return static_cast<int>(std::clamp(b, 0.0, static_cast<double>(this->Bins - 1)));
+    // (Clamped to the bins; a NaN to the first.)
+    return b >= static_cast<double>(this->Bins - 1) ? this->Bins - 1
+                                                    : (b >= 0.0 ? static_cast<int>(b) : 0);
   }
 
   void index(double tol)
