@@ -33,13 +33,14 @@ inline double arcAlong(const std::vector<Vec2>& line, Vec2 p, double tol)
 }
 
 /// arcAlong() on a polyline of many segments, the same values: its segments in bins along the
-/// longer side of its box (each in every bin its extent, widened by a margin, overlaps; in
-/// order), and the arc length at each segment's start summed as arcAlong() sums it, so that the
-/// same segment is found (the first within tol: the least of the bins' first) and the same arc
-/// given, without walking the segments before it. (A kept corner's sides along zigzag curves
-/// have thousands of points, and each vertex near them walked them all: four horizons of
-/// 40 k points 0.5 apart with MinimumEdgeLength 20, 47 -> 21 s.) The first kWalkedQueries
-/// queries walk; the bins are made at the next. The line must outlive the index.
+/// longer side of its box (each in every bin its extent overlaps, in order; a query looks in
+/// the bins within tol and a rounding margin of it), and the arc length at each segment's
+/// start summed as arcAlong() sums it, so that the same segment is found (the first within
+/// tol: the least of the bins' first) and the same arc given, without walking the segments
+/// before it. (A kept corner's sides along zigzag curves have thousands of points, and each
+/// vertex near them walked them all: four horizons of 40 k points 0.5 apart with
+/// MinimumEdgeLength 20, 47 -> 21 s.) The first kWalkedQueries queries walk; the bins are made
+/// at the next. The line must outlive the index.
 class ArcIndex
 {
 public:
@@ -56,13 +57,15 @@ public:
     }
     if (this->Start.empty())
     {
-      this->index(tol);
+      this->index();
     }
+    // (A segment the test below accepts passes within tol of p up to rounding, far below the
+    // margin: its bins are among those within reach of p.)
     const double c = this->Along ? p.y : p.x;
     const double reach = tol * (1.0 + 1e-9) + this->Margin;
-    if (!(reach <= this->MarginFor) || !std::isfinite(c))
+    if (!std::isfinite(c) || !std::isfinite(reach))
     {
-      return arcAlong(this->Line, p, tol); // (another tol, or a point at infinity)
+      return arcAlong(this->Line, p, tol);
     }
     const int b0 = this->binOf(c - reach), b1 = this->binOf(c + reach);
     int first = -1;
@@ -96,15 +99,9 @@ private:
   static constexpr std::size_t kIndexedPoints = 32; // walked up to this many points
   static constexpr int kWalkedQueries = 2;          // ... and for this many queries
 
-  int binOf(double c) const
-  {
-    const double b = std::floor((c - this->Lo) * this->InvWidth);
-    // (Clamped to the bins; a NaN to the first.)
-    return b >= static_cast<double>(this->Bins - 1) ? this->Bins - 1
-                                                    : (b >= 0.0 ? static_cast<int>(b) : 0);
-  }
+  int binOf(double c) const { return clampedCell((c - this->Lo) * this->InvWidth, this->Bins); }
 
-  void index(double tol)
+  void index()
   {
     const std::vector<Vec2>& line = this->Line;
     const std::size_t n = line.size() - 1; // segments
@@ -114,10 +111,7 @@ private:
       box.add(q);
     }
     this->Along = box.height() > box.width(); // bins along y
-    const double scale = box.scale();
-    // (A segment the test accepts passes within tol of p up to rounding, far below this.)
-    this->Margin = 1e-10 * scale;
-    this->MarginFor = tol * (1.0 + 1e-9) + this->Margin;
+    this->Margin = 1e-10 * box.scale();
     this->Lo = this->Along ? box.min.y : box.min.x;
     const double extent = this->Along ? box.height() : box.width();
     this->Bins = static_cast<int>(std::min<std::size_t>(n, 1 << 16));
@@ -129,7 +123,6 @@ private:
       this->Start.push_back(sum);
       sum += norm(line[j] - line[j - 1]);
     }
-    const double w = this->MarginFor;
     groupIntoRows(static_cast<std::size_t>(this->Bins),
       this->BinStart,
       this->Items,
@@ -139,8 +132,8 @@ private:
         {
           const double c0 = this->Along ? line[j].y : line[j].x;
           const double c1 = this->Along ? line[j + 1].y : line[j + 1].x;
-          const int b1 = this->binOf(std::max(c0, c1) + w);
-          for (int b = this->binOf(std::min(c0, c1) - w); b <= b1; ++b)
+          const int b1 = this->binOf(std::max(c0, c1));
+          for (int b = this->binOf(std::min(c0, c1)); b <= b1; ++b)
           {
             emit(static_cast<std::size_t>(b), static_cast<int>(j));
           }
@@ -152,7 +145,7 @@ private:
   int Queries = 0;
   std::vector<double> Start; // the arc length at each segment's start (empty: not indexed)
   bool Along = false;        // bins along y (else x)
-  double Lo = 0.0, InvWidth = 0.0, Margin = 0.0, MarginFor = 0.0;
+  double Lo = 0.0, InvWidth = 0.0, Margin = 0.0; // Margin: the rounding's, at the line's scale
   int Bins = 1;
   std::vector<std::size_t> BinStart;
   std::vector<int> Items;

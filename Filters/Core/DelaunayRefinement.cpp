@@ -554,8 +554,7 @@ private:
 
   int cellOf(double v, double origin, int count) const
   {
-    const double c = std::floor((v - origin) / this->Cell);
-    return static_cast<int>(std::min(std::max(c, 0.0), static_cast<double>(count - 1)));
+    return clampedCell((v - origin) / this->Cell, count);
   }
   // The cells of the box, clamped to the grid (a box beside the grid meets its border cells:
   // more candidates, never fewer).
@@ -3926,14 +3925,13 @@ bool Refiner::keepCorner(const SharpCorner& c,
   Vec2 sideLo[2], sideHi[2];
   for (int s = 0; s < 2; ++s)
   {
-    sideLo[s] = sideHi[s] = sides[s]->front();
+    Box2 box;
     for (const Vec2& q : *sides[s])
     {
-      sideLo[s] = { std::min(sideLo[s].x, q.x), std::min(sideLo[s].y, q.y) };
-      sideHi[s] = { std::max(sideHi[s].x, q.x), std::max(sideHi[s].y, q.y) };
+      box.add(q);
     }
-    sideLo[s] = sideLo[s] - Vec2{ 2.0 * tol, 2.0 * tol };
-    sideHi[s] = sideHi[s] + Vec2{ 2.0 * tol, 2.0 * tol };
+    sideLo[s] = box.min - Vec2{ 2.0 * tol, 2.0 * tol };
+    sideHi[s] = box.max + Vec2{ 2.0 * tol, 2.0 * tol };
   }
   ArcIndex arcs[2] = { ArcIndex(*sides[0]), ArcIndex(*sides[1]) };
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)

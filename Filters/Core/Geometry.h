@@ -94,6 +94,14 @@ struct Box2
   }
 };
 
+/// The cell of a coordinate already measured in cells from a grid's origin: floor(x) clamped to
+/// [0, count - 1] (a NaN to 0).
+inline int clampedCell(double x, int count)
+{
+  const double c = std::floor(x);
+  return c >= static_cast<double>(count - 1) ? count - 1 : (c >= 0.0 ? static_cast<int>(c) : 0);
+}
+
 /// Squared distance from p to segment ab; t receives the parameter of the closest point
 /// (0 at a, 1 at b), clamped to [0, 1]. A zero-length segment is its point a.
 inline double pointSegmentDistance2(Vec2 p, Vec2 a, Vec2 b, double* t = nullptr)
