@@ -1055,6 +1055,12 @@ private:
   bool Legalize = true;      // false while the kept corners' sides are conformed
   std::vector<Zone> ExtendedSides; // extendedSides()
   mutable int LastAround = -1;     // around()'s last triangle: where holding() looks first
+  mutable std::vector<std::uint32_t> BodySeen; // regionBody(): the call that listed a triangle
+  mutable std::vector<int> BodyAt;             // ... and its place in that call's list
+  mutable std::uint32_t BodyStamp = 0;
+  std::vector<std::uint32_t> ArcSeen; // keepCorner(): the call that measured a vertex's arcs
+  std::vector<std::array<double, 2>> ArcMemo; // ... and those arcs along its sides
+  std::uint32_t ArcStamp = 0;
   bool Keeping = false;      // in keepCorners()
   bool KeepRan = false;      // keepCorners() ran (on this mesh)
   struct Wedge
@@ -3934,6 +3940,16 @@ bool Refiner::keepCorner(const SharpCorner& c,
     sideHi[s] = box.max + Vec2{ 2.0 * tol, 2.0 * tol };
   }
   ArcIndex arcs[2] = { ArcIndex(*sides[0]), ArcIndex(*sides[1]) };
+  if (this->ArcSeen.size() < this->M.points.size())
+  {
+    this->ArcSeen.resize(this->M.points.size(), 0);
+    this->ArcMemo.resize(this->M.points.size());
+  }
+  if (++this->ArcStamp == 0)
+  {
+    std::fill(this->ArcSeen.begin(), this->ArcSeen.end(), 0);
+    this->ArcStamp = 1;
+  }
   for (std::size_t i = 0, n = local ? all.size() : this->M.triangles.size(); i < n; ++i)
   {
     this->poll();
@@ -3953,12 +3969,22 @@ bool Refiner::keepCorner(const SharpCorner& c,
       }
       else if (d2 <= reach * reach)
       {
-        const Vec2 p = this->X(v);
+        // (Each vertex's arcs once: it is in about six of the triangles.)
+        std::array<double, 2>& arcsOfV = this->ArcMemo[v];
+        if (this->ArcSeen[v] != this->ArcStamp)
+        {
+          this->ArcSeen[v] = this->ArcStamp;
+          const Vec2 p = this->X(v);
+          for (int s = 0; s < 2; ++s)
+          {
+            const bool inBox =
+              p.x >= sideLo[s].x && p.x <= sideHi[s].x && p.y >= sideLo[s].y && p.y <= sideHi[s].y;
+            arcsOfV[s] = inBox ? arcs[s].arc(p, tol) : -1.0;
+          }
+        }
         for (int s = 0; s < 2; ++s)
         {
-          const bool inBox =
-            p.x >= sideLo[s].x && p.x <= sideHi[s].x && p.y >= sideLo[s].y && p.y <= sideHi[s].y;
-          const double a = inBox ? arcs[s].arc(p, tol) : -1.0;
+          const double a = arcsOfV[s];
           if (a >= 0.0)
           {
             onSide[s].push_back(a);
@@ -4440,6 +4466,24 @@ std::vector<int> Refiner::regionBody(const std::vector<int>& list,
       own.push_back(t);
     }
   }
+  // Each of `own`'s place in it, by triangle, stamped for this call (a binary search of `own`
+  // per edge made half of the wedges' step on long zigzag curves).
+  const std::size_t nt = this->M.triangles.size();
+  if (this->BodySeen.size() < nt)
+  {
+    this->BodySeen.resize(nt, 0);
+    this->BodyAt.resize(nt, 0);
+  }
+  if (++this->BodyStamp == 0)
+  {
+    std::fill(this->BodySeen.begin(), this->BodySeen.end(), 0);
+    this->BodyStamp = 1;
+  }
+  for (std::size_t i = 0; i < own.size(); ++i)
+  {
+    this->BodySeen[own[i]] = this->BodyStamp;
+    this->BodyAt[own[i]] = static_cast<int>(i);
+  }
   // The pieces by a flood fill across edges between two of `own`, each with its farthest
   // vertex from the apex.
   std::vector<int> piece(own.size(), -1), stack;
@@ -4462,9 +4506,13 @@ std::vector<int> Refiner::regionBody(const std::vector<int>& list,
       for (int k = 0; k < 3; ++k)
       {
         farthest[id] = std::max(farthest[id], norm2(this->X(tri[k]) - apex));
-        const auto it = std::lower_bound(own.begin(), own.end(), across[k]);
-        const std::size_t j = static_cast<std::size_t>(it - own.begin());
-        if (across[k] >= 0 && it != own.end() && *it == across[k] && piece[j] < 0)
+        const int n = across[k];
+        if (n < 0 || this->BodySeen[n] != this->BodyStamp)
+        {
+          continue;
+        }
+        const std::size_t j = static_cast<std::size_t>(this->BodyAt[n]);
+        if (piece[j] < 0)
         {
           piece[j] = id;
           stack.push_back(static_cast<int>(j));
