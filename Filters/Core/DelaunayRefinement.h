@@ -168,6 +168,10 @@ struct RefinementParams
   /// The refinement runs then mend the triangles beside them. The exterior's wedges of
   /// minimumAngle or more are ignored.
   std::vector<SharpCorner> wedgeCorners;
+  /// Of wedgeCorners, how many have their lists of nearby triangles held at once (>= 1): each
+  /// such chunk sweeps the mesh once for its lists, which on long zigzag curves hold thousands
+  /// of triangles per corner. Memory against sweeps only: the mesh does not depend on it.
+  std::size_t wedgeChunk = 4096;
   /// Model units (>= 0): how far from the curves a point that onCurve accepts may lie; a
   /// vertex within four times this (or 1e-7 of a kept corner's side length) of a side is on it.
   double curveTolerance = 0.0;

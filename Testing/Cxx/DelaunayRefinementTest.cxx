@@ -3,6 +3,7 @@
 // bound reached, boundary edges kept), its floors, and its preconditions.
 #include "DelaunayRefinement.h"
 #include "ArcIndex.h"
+#include "CallTables.h"
 #include "Errors.h"
 #include "Quality.h"
 
@@ -893,6 +894,38 @@ TEST(DelaunayRefinementTest, AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide)
   // Its area: the spit's but for the tip beyond the cut (the apex and the cut's ends).
   EXPECT_NEAR(regionAreas(m).at(1), 10.0 * h - 0.5 * d0 * d1 * std::sin(10.0 * kPi / 180.0), 1e-9);
   EXPECT_LE(r.badTrianglesLeft, before.badTrianglesLeft);
+}
+
+// Step 7' lists the triangles near each wedge corner a chunk of corners at a time
+// (RefinementParams::wedgeChunk): from the mesh as it was and what the extensions before made
+// or changed. The spit of AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide listed three times,
+// and the lost tip of ALostTipOfARegionCornerIsRebuiltToItsApex twice: the first of each is
+// extended, the others find it done; in chunks of one corner (each listed after the extensions
+// before it), two or the default, the same mesh and the same count.
+TEST(DelaunayRefinementTest, WedgesListedInChunksSeeTheExtensionsBeforeThem)
+{
+  const auto check = [](const RegionMesh& lost, RefinementParams p, int copies)
+  {
+    p.wedgeCorners.assign(static_cast<std::size_t>(copies), p.wedgeCorners.front());
+    RegionMesh whole = lost;
+    const RefinementResult r = strata::refineDelaunay(whole, middle, p);
+    expectValid(whole);
+    EXPECT_EQ(r.extendedWedges, 1u);
+    for (const std::size_t chunk : { 1, 2 })
+    {
+      p.wedgeChunk = chunk;
+      RegionMesh m = lost;
+      const RefinementResult rc = strata::refineDelaunay(m, middle, p);
+      EXPECT_EQ(rc.extendedWedges, r.extendedWedges) << "chunks of " << chunk;
+      EXPECT_EQ(m.points, whole.points) << "chunks of " << chunk;
+      EXPECT_EQ(m.triangles, whole.triangles) << "chunks of " << chunk;
+      EXPECT_EQ(m.region, whole.region) << "chunks of " << chunk;
+    }
+  };
+  const double spit = 10.0 * std::tan(5.0 * kPi / 180.0);
+  check(cornerCutAt6(spit, -1), cornerParams(spit, 10.0, -1, 0.25), 3);
+  const double tip = 10.0 * std::tan(22.5 * kPi / 180.0);
+  check(cornerCutAt6(tip, 0), cornerParams(tip, 45.0, 0, 1.0), 2);
 }
 
 // The spit of AShortSpitIsExtendedToWhereItIsOneFinestEdgeWide, but with a piece of region 1
@@ -1898,6 +1931,9 @@ TEST(DelaunayRefinementTest, MalformedMeshesAndParametersAreRejected)
   p.curveAreaBudget = 2.0;
   EXPECT_NE(message(good, p).find("curve area budget"), std::string::npos);
   p = {};
+  p.wedgeChunk = 0;
+  EXPECT_NE(message(good, p).find("wedge chunk 0"), std::string::npos);
+  p = {};
   p.maximumEdgeLength = std::nan("");
   EXPECT_NE(message(good, p).find("maximum edge length nan"), std::string::npos);
   RegionMesh m = good;
@@ -2018,6 +2054,92 @@ TEST(DelaunayRefinementTest, PointStarsTickEveryBlockOfTrianglesInBothPassesWith
   // A tick that throws (an abort) ends the call with its exception.
   EXPECT_THROW(
     strata::pointStars(np, triangles, nullptr, [] { throw strata::Aborted(); }), strata::Aborted);
+}
+
+// PlaceTable (CallTables.h): a call of 5000 keys drawn at random (some share a slot, and
+// probe past it), then a call of three, then one of 48 keys drawn at random in its 128 slots:
+// each call finds the places of its own keys, and none of the keys of the calls before.
+TEST(DelaunayRefinementTest, APlaceTableGivesThePlacesOfItsCallsKeysOnly)
+{
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> draw(0, 1 << 30);
+  const auto distinct = [&](std::size_t n)
+  {
+    std::set<int> keys;
+    while (keys.size() < n)
+    {
+      keys.insert(draw(rng));
+    }
+    std::vector<int> list(keys.begin(), keys.end());
+    std::shuffle(list.begin(), list.end(), rng);
+    return list;
+  };
+  strata::PlaceTable table;
+  // A call of `keys`, each at its place in the list; then each is found there.
+  const auto call = [&table](const std::vector<int>& keys)
+  {
+    table.begin(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i)
+    {
+      table.insert(keys[i], static_cast<int>(i));
+    }
+    std::size_t found = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i)
+    {
+      found += table.find(keys[i]) == static_cast<int>(i);
+    }
+    return found;
+  };
+  const std::vector<int> first = distinct(5000);
+  EXPECT_EQ(call(first), first.size());
+  const std::set<int> firstKeys(first.begin(), first.end());
+  for (int i = 0; i < 5000; ++i)
+  {
+    const int other = draw(rng);
+    ASSERT_TRUE(firstKeys.count(other) > 0 || table.find(other) == -1) << other;
+  }
+  table.begin(3);
+  table.insert(first[7], 2);
+  table.insert(42, 0);
+  EXPECT_EQ(table.find(first[7]), 2);
+  EXPECT_EQ(table.find(42), 0);
+  EXPECT_EQ(table.find(first[0]), -1); // (the first call's)
+  EXPECT_EQ(table.find(first[4999]), -1);
+  const std::vector<int> third = distinct(48);
+  EXPECT_EQ(call(third), third.size());
+  ASSERT_EQ(std::count(third.begin(), third.end(), first[7]), 0);
+  EXPECT_EQ(table.find(first[7]), -1); // (the second call's)
+}
+
+// VertexMemo (CallTables.h): a vertex's values are worked out once per call, again in the next
+// call, and again after another vertex of the call took its slot (the index kMemoSlots apart):
+// each vertex always gets its own values.
+TEST(DelaunayRefinementTest, AVertexMemoGivesEachVertexItsOwnValuesWorkedOutOncePerCall)
+{
+  strata::VertexMemo memo;
+  int worked = 0;
+  const auto of = [&worked](int v)
+  {
+    return [&worked, v](std::array<double, 2>& values)
+    {
+      ++worked;
+      values = { static_cast<double>(v), -static_cast<double>(v) };
+    };
+  };
+  const int v = 5, w = 5 + static_cast<int>(strata::VertexMemo::kMemoSlots); // (one slot)
+  memo.begin();
+  EXPECT_EQ(memo.get(v, of(v))[0], 5.0);
+  EXPECT_EQ(memo.get(v, of(v))[1], -5.0);
+  EXPECT_EQ(worked, 1);
+  EXPECT_EQ(memo.get(w, of(w))[0], static_cast<double>(w));
+  EXPECT_EQ(worked, 2);
+  EXPECT_EQ(memo.get(v, of(v))[0], 5.0);
+  EXPECT_EQ(worked, 3);
+  EXPECT_EQ(memo.get(6, of(6))[1], -6.0);
+  EXPECT_EQ(worked, 4);
+  memo.begin();
+  EXPECT_EQ(memo.get(v, of(v))[0], 5.0);
+  EXPECT_EQ(worked, 5);
 }
 
 TEST(DelaunayRefinementTest, AnArcIndexGivesTheArcsOfAWalkAlongTheLine)

@@ -2497,6 +2497,29 @@ std::pair<std::vector<std::vector<Vec2>>, strata::MesherResult> zigzagSection(
 }
 } // namespace
 
+// The Delaunay refinement's wedges (step 7') list the triangles near each corner a chunk of
+// corners at a time (RefinementParams::wedgeChunk), from the mesh as it was and the triangles
+// the extensions before made or changed: the mesh is the same, byte for byte, whatever the
+// chunk. Marmousi (its last pass extends about 40 of its 180 wedges) meshed in one chunk, then
+// in chunks of 1, 2 and 7 corners.
+TEST(MesherTest, TheWedgesGiveTheSameMeshWhateverTheCornersListedAtOnce)
+{
+  const strata::RawPolylines raw =
+    strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp"));
+  strata::MesherParams p;
+  p.thinLayerRetry = false;
+  const strata::MesherResult whole = strata::triangulate(raw, p);
+  ASSERT_GT(whole.triangles.size(), 0u);
+  for (const std::size_t chunk : { 1, 2, 7 })
+  {
+    p.refinement.wedgeChunk = chunk;
+    const strata::MesherResult r = strata::triangulate(raw, p);
+    EXPECT_EQ(r.points, whole.points) << "chunks of " << chunk;
+    EXPECT_EQ(r.triangles, whole.triangles) << "chunks of " << chunk;
+    EXPECT_EQ(r.regionId, whole.regionId) << "chunks of " << chunk;
+  }
+}
+
 // RegionArea::misplaced (and Summary::maxRegionMisplacedArea) is the symmetric difference of a
 // region's triangles and its model region. A section 100 x 60 split by a zigzag curve (teeth
 // 1.5 units up and down, 5 apart) is meshed by the paper's method on a grid coarser than its
