@@ -125,12 +125,13 @@ public:
 
   ///@{
   /**
-   * Beyond the paper, thin layers (default off): also bisect grid triangles finer than
-   * LocalMaxLevel, down to the junction refinement's level (16 times shorter edges than at
-   * LocalMaxLevel), where two boundary curves (or one curve twice) cross them with a layer
-   * between them thinner than the triangle's legs but at least as thick as that level's legs
-   * (the finest edge), so that the compression gets cells about as wide as the layer and
-   * keeps it. Curves meeting at a junction at 30 degrees or more are not a layer; a
+   * Beyond the paper, thin layers (default off): also bisect grid triangles from MaxLevel
+   * down to the junction refinement's level (16 times shorter edges than at LocalMaxLevel),
+   * where a layer thinner than the triangle's legs but at least as thick as that level's legs
+   * (the finest edge) crosses them (two boundary curves, or one curve twice) or lies beside
+   * them (one curve twice: one side crossing the triangle, the other within a leg of it, as a
+   * comb's tooth along a grid line), so that the compression gets cells about as wide as the
+   * layer and keeps it. Curves meeting at a junction at 30 degrees or more are not a layer; a
    * pinch-out's tip, thinner than the finest edge, is not refined. Physical Compression
    * Triangulation keeps the mesh made with it only when it meets MinimumAngle (30 at most)
    * and the 0.5% region area bound; otherwise it also meshes without it and keeps the better

@@ -290,6 +290,32 @@ inline bool segmentMeetsTriangle(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2 c)
   return !((oa > 0.0 && ob > 0.0 && oc > 0.0) || (oa < 0.0 && ob < 0.0 && oc < 0.0));
 }
 
+// The part of segment pq (which meets it) inside the closed counter-clockwise triangle abc
+// (Cyrus-Beck clipping), by its two ends and its middle: out[0], out[1], out[2].
+inline void clipToTriangle(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2 c, Vec2 out[3])
+{
+  const Vec2 d = q - p;
+  const Vec2 corners[3] = { a, b, c };
+  double t0 = 0.0, t1 = 1.0;
+  for (int e = 0; e < 3; ++e)
+  {
+    const Vec2 u = corners[e], v = corners[(e + 1) % 3];
+    const double at = orient2d(u, v, p), along = cross(v - u, d); // inside: at + t along >= 0
+    if (along > 0.0)
+    {
+      t0 = std::max(t0, -at / along);
+    }
+    else if (along < 0.0)
+    {
+      t1 = std::min(t1, -at / along);
+    }
+  }
+  t1 = std::max(t0, t1); // a touch
+  out[0] = p + t0 * d;
+  out[1] = p + (0.5 * (t0 + t1)) * d;
+  out[2] = p + t1 * d;
+}
+
 // Whether segments ab and pq are within distance tol (closed). If they do not properly cross,
 // their distance is attained at an end point of one of them.
 inline bool segmentsWithin(Vec2 a, Vec2 b, Vec2 p, Vec2 q, double tol)
@@ -312,6 +338,22 @@ inline bool segmentsWithin(Vec2 a, Vec2 b, Vec2 p, Vec2 q, double tol)
   const double t2 = tol * tol;
   return pointSegmentDistance2(p, a, b) <= t2 || pointSegmentDistance2(q, a, b) <= t2 ||
     pointSegmentDistance2(a, p, q) <= t2 || pointSegmentDistance2(b, p, q) <= t2;
+}
+
+// Whether q lies within distance r (closed) of the closed counter-clockwise triangle abc.
+inline bool pointNearTriangle(Vec2 q, Vec2 a, Vec2 b, Vec2 c, double r)
+{
+  const double r2 = r * r;
+  return pointInTriangle(q, a, b, c) || pointSegmentDistance2(q, a, b) <= r2 ||
+    pointSegmentDistance2(q, b, c) <= r2 || pointSegmentDistance2(q, c, a) <= r2;
+}
+
+// Whether segment pq lies within distance r (closed) of the closed counter-clockwise triangle
+// abc.
+inline bool segmentNearTriangle(Vec2 p, Vec2 q, Vec2 a, Vec2 b, Vec2 c, double r)
+{
+  return segmentMeetsTriangle(p, q, a, b, c) || segmentsWithin(p, q, a, b, r) ||
+    segmentsWithin(p, q, b, c, r) || segmentsWithin(p, q, c, a, r);
 }
 
 } // namespace
@@ -722,6 +764,38 @@ bool BoundaryIndex::anySegment(double x0, double y0, double x1, double y1, Visit
 
 bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
 {
+  return this->layerAcross(a, b, c, thinnest, thickest) ||
+    this->layerBeside(a, b, c, thinnest, thickest);
+}
+
+// Whether curves ck and cm (different) have a common end near the triangle (within
+// sqrt(longest2) of its centroid) at which they meet at 30 degrees or more: a junction, not a
+// pinch-out.
+bool BoundaryIndex::junctionNear(int ck, int cm, Vec2 centroid, double longest2) const
+{
+  const double cos30 = 0.86602540378443864676;
+  for (int endK = 0; endK < 2; ++endK)
+  {
+    const int sk = endK == 0 ? this->ChainBegin[ck] : this->ChainBegin[ck + 1] - 1;
+    const Vec2 xk = endK == 0 ? this->A[sk] : this->B[sk];
+    const Vec2 dk = (endK == 0 ? this->B[sk] : this->A[sk]) - xk;
+    for (int endM = 0; endM < 2; ++endM)
+    {
+      const int sm = endM == 0 ? this->ChainBegin[cm] : this->ChainBegin[cm + 1] - 1;
+      const Vec2 xm = endM == 0 ? this->A[sm] : this->B[sm];
+      const Vec2 dm = (endM == 0 ? this->B[sm] : this->A[sm]) - xm;
+      if (xk == xm && norm2(xk - centroid) <= longest2 &&
+        dot(dk, dm) < cos30 * std::sqrt(norm2(dk) * norm2(dm)))
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool BoundaryIndex::layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+{
   // The segments meeting the triangle.
   this->Hits.clear();
   this->anySegment(std::min({ a.x, b.x, c.x }),
@@ -760,30 +834,12 @@ bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double th
   {
     return false;
   }
-  // Each hit's part inside the triangle (Cyrus-Beck clipping), by its ends and middle.
+  // Each hit's part inside the triangle, by its ends and middle.
   this->StrandPoints.resize(3 * n);
-  const Vec2 corners[3] = { a, b, c };
   for (std::size_t i = 0; i < n; ++i)
   {
-    const Vec2 p = this->A[this->Hits[i]], d = this->B[this->Hits[i]] - p;
-    double t0 = 0.0, t1 = 1.0;
-    for (int e = 0; e < 3; ++e)
-    {
-      const Vec2 u = corners[e], v = corners[(e + 1) % 3];
-      const double at = orient2d(u, v, p), along = cross(v - u, d); // inside: at + t along >= 0
-      if (along > 0.0)
-      {
-        t0 = std::max(t0, -at / along);
-      }
-      else if (along < 0.0)
-      {
-        t1 = std::min(t1, -at / along);
-      }
-    }
-    t1 = std::max(t0, t1); // a touch
-    this->StrandPoints[3 * i] = p + t0 * d;
-    this->StrandPoints[3 * i + 1] = p + (0.5 * (t0 + t1)) * d;
-    this->StrandPoints[3 * i + 2] = p + t1 * d;
+    clipToTriangle(
+      this->A[this->Hits[i]], this->B[this->Hits[i]], a, b, c, &this->StrandPoints[3 * i]);
   }
   const auto first = [&](std::size_t k) { return k == 0 ? 0 : this->StrandEnd[k - 1]; };
   // The smallest distance from strand k's points in the triangle to strand m's segments.
@@ -806,38 +862,137 @@ bool BoundaryIndex::thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double th
   const double longest2 =
     4.0 * std::max({ norm2(b - a), norm2(c - b), norm2(a - c) }); // (twice the longest)^2
   const Vec2 centroid = (1.0 / 3.0) * (a + b + c);
-  const double cos30 = 0.86602540378443864676;
   for (std::size_t k = 0; k < strands; ++k)
   {
     const int ck = this->ChainOf[this->Hits[first(k)]];
     for (std::size_t m = k + 1; m < strands; ++m)
     {
       const int cm = this->ChainOf[this->Hits[first(m)]];
-      if (ck != cm)
+      if (ck != cm && this->junctionNear(ck, cm, centroid, longest2))
       {
-        // A common end of the two curves near the triangle, at 30 degrees or more: a junction.
-        bool junction = false;
-        for (int endK = 0; endK < 2 && !junction; ++endK)
-        {
-          const int sk = endK == 0 ? this->ChainBegin[ck] : this->ChainBegin[ck + 1] - 1;
-          const Vec2 xk = endK == 0 ? this->A[sk] : this->B[sk];
-          const Vec2 dk = (endK == 0 ? this->B[sk] : this->A[sk]) - xk;
-          for (int endM = 0; endM < 2 && !junction; ++endM)
-          {
-            const int sm = endM == 0 ? this->ChainBegin[cm] : this->ChainBegin[cm + 1] - 1;
-            const Vec2 xm = endM == 0 ? this->A[sm] : this->B[sm];
-            const Vec2 dm = (endM == 0 ? this->B[sm] : this->A[sm]) - xm;
-            junction = xk == xm && norm2(xk - centroid) <= longest2 &&
-              dot(dk, dm) < cos30 * std::sqrt(norm2(dk) * norm2(dm));
-          }
-        }
-        if (junction)
-        {
-          continue;
-        }
+        continue;
       }
       const double thickness = std::min(nearest(k, m), nearest(m, k));
       if (thickness >= thinnest && thickness < thickest)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool BoundaryIndex::layerBeside(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+{
+  // The segments within `thickest` of the triangle.
+  const double r = thickest;
+  this->Hits.clear();
+  this->anySegment(std::min({ a.x, b.x, c.x }) - r,
+    std::min({ a.y, b.y, c.y }) - r,
+    std::max({ a.x, b.x, c.x }) + r,
+    std::max({ a.y, b.y, c.y }) + r,
+    [&](int s)
+    {
+      if (segmentNearTriangle(this->A[s], this->B[s], a, b, c, r))
+      {
+        this->Hits.push_back(s);
+      }
+      return false;
+    });
+  if (this->Hits.size() < 2)
+  {
+    return false;
+  }
+  // Strands: runs of consecutive segments of one curve joined at a node within `thickest` of
+  // the triangle, so that a curve passing by is one strand and a layer's end near the
+  // triangle (where its two sides join) is not a layer beside it.
+  std::sort(this->Hits.begin(), this->Hits.end());
+  this->StrandEnd.clear();
+  const std::size_t n = this->Hits.size();
+  for (std::size_t i = 1; i <= n; ++i)
+  {
+    const int s = this->Hits[i - 1];
+    if (i == n || this->Hits[i] != s + 1 || this->ChainOf[s + 1] != this->ChainOf[s] ||
+      !pointNearTriangle(this->B[s], a, b, c, r))
+    {
+      this->StrandEnd.push_back(static_cast<int>(i));
+    }
+  }
+  const std::size_t strands = std::min<std::size_t>(this->StrandEnd.size(), 16);
+  if (strands < 2)
+  {
+    return false;
+  }
+  const auto first = [&](std::size_t k) { return k == 0 ? 0 : this->StrandEnd[k - 1]; };
+  // The hits meeting the triangle, with their parts inside it (StrandPoints), and whether
+  // each strand has one.
+  this->StrandPoints.resize(3 * n);
+  this->HitMeets.assign(n, 0);
+  std::uint32_t meeting = 0; // bit k: strand k meets the triangle
+  for (std::size_t k = 0; k < strands; ++k)
+  {
+    for (int i = first(k); i < this->StrandEnd[k]; ++i)
+    {
+      const int s = this->Hits[i];
+      if (segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+      {
+        this->HitMeets[i] = 1;
+        meeting |= std::uint32_t(1) << k;
+        clipToTriangle(this->A[s], this->B[s], a, b, c, &this->StrandPoints[3 * i]);
+      }
+    }
+  }
+  // Strands k and m of a closed curve that are one strand through its start.
+  const auto wrapped = [&](std::size_t k, std::size_t m)
+  {
+    const int sk = this->Hits[first(k)], sm = this->Hits[this->StrandEnd[m] - 1];
+    const int chain = this->ChainOf[sk];
+    return this->ChainOf[sm] == chain && sk == this->ChainBegin[chain] &&
+      sm == this->ChainBegin[chain + 1] - 1 && this->B[sm] == this->A[sk] &&
+      pointNearTriangle(this->A[sk], a, b, c, r);
+  };
+  for (std::size_t k = 0; k < strands; ++k)
+  {
+    if (!(meeting >> k & 1))
+    {
+      continue;
+    }
+    const int ck = this->ChainOf[this->Hits[first(k)]];
+    for (std::size_t m = 0; m < strands; ++m)
+    {
+      if (meeting >> m & 1)
+      {
+        continue; // (a layer across the triangle: layerAcross)
+      }
+      const int cm = this->ChainOf[this->Hits[first(m)]];
+      if (ck != cm || wrapped(k, m) || wrapped(m, k))
+      {
+        continue; // (two curves: see thinLayer)
+      }
+      // The smallest and the largest distance from strand k's points in the triangle to
+      // strand m: the layer is at least `thinnest` thick there and thinner than `thickest` all
+      // along k's part in the triangle (a curve ending across another's path is no layer).
+      double least = HUGE_VAL, most = 0.0;
+      for (int i = first(k); i < this->StrandEnd[k]; ++i)
+      {
+        if (!this->HitMeets[i])
+        {
+          continue;
+        }
+        for (int e = 0; e < 3; ++e)
+        {
+          double d2 = HUGE_VAL;
+          for (int j = first(m); j < this->StrandEnd[m]; ++j)
+          {
+            d2 = std::min(d2,
+              pointSegmentDistance2(
+                this->StrandPoints[3 * i + e], this->A[this->Hits[j]], this->B[this->Hits[j]]));
+          }
+          least = std::min(least, d2);
+          most = std::max(most, d2);
+        }
+      }
+      if (std::sqrt(least) >= thinnest && std::sqrt(most) < thickest)
       {
         return true;
       }
@@ -1040,9 +1195,12 @@ public:
         flags |= kEmpty;
       }
     }
-    // (g) thin layers, beyond localMaxLevel: a layer at least the finest leg thick that is
-    // thinner than T's legs.
-    if (this->ThinLayers && level >= this->P.localMaxLevel && level < this->P.junctionMaxLevel &&
+    // (g) thin layers: a layer at least the finest leg thick that is thinner than T's legs,
+    // across T or (one curve twice) beside it. Below localMaxLevel (c) has split the layers
+    // across T; one that lies along a grid edge is beside the triangles on both sides of it (a
+    // comb's tooth 0.12 of a leg wide astride the edges of level 13 at LocalMaxLevel 14: no
+    // triangle held both of its sides, and the mesh cut it).
+    if (this->ThinLayers && level >= this->P.maxLevel && level < this->P.junctionMaxLevel &&
       !(flags & kEmpty) && this->inThinLayerZone(v, level))
     {
       ++this->G.Stats.localTests;

@@ -78,12 +78,21 @@ public:
   /// exterior counts as one), or curves of three or more regions.
   TriangleResult testTriangle(Vec2 a, Vec2 b, Vec2 c, bool local, bool thin);
   /// Grid48's thin layer criterion (g) for the closed counter-clockwise triangle abc: whether
-  /// two strands of the boundary cross it (two curves, or one curve twice) with a thickness in
-  /// [thinnest, thickest), the thickness being the smallest distance from a point of either
-  /// strand inside the triangle (the ends and middles of its segments' parts inside) to the
-  /// other strand's segments: the layer between them is at least that thick everywhere in the
-  /// triangle. Two curves that meet at a common end within twice the triangle's longest edge
-  /// at an angle of 30 degrees or more are not a layer (a junction, not a pinch-out).
+  /// a layer with a thickness in [thinnest, thickest) lies across it or beside it.
+  /// - Across: two strands of the boundary cross it (two curves, or one curve twice), the
+  ///   thickness being the smallest distance from a point of either strand inside the
+  ///   triangle (the ends and middles of its segments' parts inside) to the other strand's
+  ///   segments: the layer between them is at least that thick everywhere in the triangle.
+  /// - Beside: a strand crosses it and another strand of the same curve, within `thickest`
+  ///   of it but not meeting it, lies at least `thinnest` and less than `thickest` from each
+  ///   of the first one's points inside it (a curve come back along itself, as a tooth, a
+  ///   spit or a lens, along an edge of the triangle: its other side lies in the neighbour).
+  ///   Strands are then runs of segments joined at nodes within `thickest` of the triangle,
+  ///   so that a tooth's end near the triangle is not a layer beside it. Two curves are left
+  ///   to the layers across the triangles (beside them too, they refined the slivers between
+  ///   faults crossing near one point into worse meshes).
+  /// Across, two curves that meet at a common end within twice the triangle's longest edge at
+  /// an angle of 30 degrees or more are not a layer (a junction, not a pinch-out).
   bool thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
 
   std::size_t numberOfSegments() const { return this->A.size(); }
@@ -93,6 +102,9 @@ public:
 
 private:
   void build(const Model& model, Vec2 origin, double side);
+  bool layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
+  bool layerBeside(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
+  bool junctionNear(int ck, int cm, Vec2 centroid, double longest2) const;
   // Cell column / row of a coordinate, clamped to the grid (monotone in x / y).
   int cellX(double x) const { return this->cellOf((x - this->Origin.x) * this->InvCell); }
   int cellY(double y) const { return this->cellOf((y - this->Origin.y) * this->InvCell); }
@@ -122,6 +134,7 @@ private:
   std::vector<int> Hits;
   std::vector<int> StrandEnd;     // thinLayer: one past each strand's last hit
   std::vector<Vec2> StrandPoints; // thinLayer: clipped segment points, per hit
+  std::vector<char> HitMeets;     // layerBeside: whether each hit meets the triangle
 };
 
 /// Parameters of the grid. Automatic values (-1, 0) are resolved by Grid48::resolveParams;
@@ -170,11 +183,13 @@ struct Grid48Params
   /// a strip about as wide as their distance that goes on further than the local triangles
   /// (a thin layer ending on the border) is not separated: only its ends would be resolved.
   bool junctionRefinement = true;
-  /// Beyond the paper (thin layers): also split triangles beyond localMaxLevel, up to
-  /// junctionMaxLevel, that two boundary strands cross with a layer between them thinner than
-  /// the triangle's legs but at least as thick as the legs of junctionMaxLevel (see
-  /// BoundaryIndex::thinLayer), so that such a layer gets cells about as wide as it is and
-  /// the compression keeps it. Needs localMaxLevel > maxLevel.
+  /// Beyond the paper (thin layers): also split triangles from maxLevel up to
+  /// junctionMaxLevel (beyond localMaxLevel) that a layer thinner than the triangle's legs
+  /// but at least as thick as the legs of junctionMaxLevel crosses or lies beside (two
+  /// boundary strands across the triangle, or one across it and one of the same curve
+  /// within its legs beside it: see BoundaryIndex::thinLayer), so that such a layer gets
+  /// cells about as wide as it is and the compression keeps it. Needs localMaxLevel >
+  /// maxLevel.
   bool thinLayerRefinement = false;
   /// A disk (model coordinates).
   struct Zone

@@ -812,6 +812,149 @@ TEST(Grid48Test, thin_layer_zones_keep_the_thin_layer_refinement_around_them)
     strata::ParameterError);
 }
 
+// A 4 x 4 square with a vertical tooth 0.02 wide astride the grid's line x = 0 (from -0.008 to
+// 0.012, from the bottom to y = 1.5; the domain's centre is a vertex of every level from 2):
+// every grid edge along x = 0 lies inside the tooth, so that no triangle beside it holds both of
+// its sides (comb603 of random_junction_models.py, whose mesh cut such a tooth).
+TEST(Grid48Test, thin_layer_refinement_finds_a_tooth_astride_the_grid_edges)
+{
+  const double x0 = -0.008, x1 = 0.012, top = 1.5;
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::Loops;
+  raw.offsets.push_back(0);
+  strata_test::addClosedLoop(raw,
+    { { -2, -2 },
+      { x0, -2 },
+      { x0, top },
+      { x1, top },
+      { x1, -2 },
+      { 2, -2 },
+      { 2, 2 },
+      { -2, 2 } },
+    0);
+  strata_test::addClosedLoop(raw, { { x0, -2 }, { x1, -2 }, { x1, top }, { x0, top } }, 1);
+  const strata::Model model = strata::buildModel(raw);
+  const strata::DistanceField field(model);
+  const Grid48 without = twoThinLayersGrid(model, field, false);
+  const Grid48 with = twoThinLayersGrid(model, field, true);
+  const double finestLeg = with.hypotenuseLength(with.params().junctionMaxLevel) / std::sqrt(2.0);
+  ASSERT_GT(x1 - x0, finestLeg);
+  // Away from the tooth's ends: the leaves crossed by a side of it (their largest leg), and
+  // those crossed by both.
+  struct Crossing
+  {
+    int leaves = 0;
+    int both = 0;
+    double largestLeg = 0.0;
+  };
+  const auto crossing = [&](const Grid48& grid)
+  {
+    Crossing r;
+    for (int t = 0; t < static_cast<int>(grid.numberOfNodes()); ++t)
+    {
+      const Vec2 g = nodeCentroid(grid, t);
+      if (!grid.isLeaf(t) || g.y < -1.5 || g.y > 1.0)
+      {
+        continue;
+      }
+      const auto& v = grid.nodeVertices(t);
+      const Vec2 a = grid.vertexPosition(v[0]), b = grid.vertexPosition(v[1]),
+                 c = grid.vertexPosition(v[2]);
+      const bool left = segmentMeetsTriangle({ x0, -2 }, { x0, top }, a, b, c);
+      const bool right = segmentMeetsTriangle({ x1, -2 }, { x1, top }, a, b, c);
+      if (left || right)
+      {
+        ++r.leaves;
+        r.both += left && right;
+        r.largestLeg =
+          std::max(r.largestLeg, grid.hypotenuseLength(grid.nodeLevel(t)) / std::sqrt(2.0));
+      }
+    }
+    return r;
+  };
+  // Without the option the tooth lies in cells far wider than it is, none holding both sides.
+  const Crossing before = crossing(without);
+  ASSERT_GT(before.leaves, 0);
+  EXPECT_EQ(before.both, 0);
+  EXPECT_GT(before.largestLeg, 3.0 * (x1 - x0));
+  // With it, every cell either side of the tooth crosses is at most as wide as the tooth.
+  const Crossing after = crossing(with);
+  EXPECT_GT(after.leaves, before.leaves);
+  EXPECT_LE(after.largestLeg, (x1 - x0) * (1.0 + 1e-9));
+  EXPECT_LE(with.maxLeafLevel(), with.params().junctionMaxLevel);
+  expectValidMesh(with, with.extract(), "tooth astride the grid's edges");
+}
+
+// BoundaryIndex::thinLayer beside a triangle: a box 4 x 2 with a tooth (region 1) from its left
+// side along y = 0 (one curve from (0, 0) round the tooth back to the side), and triangles that
+// its lower side crosses but its upper side does not meet; then two curves instead.
+TEST(Grid48Test, a_curve_come_back_beside_a_triangle_is_a_thin_layer_two_curves_are_not)
+{
+  // The index of the model and whether thinLayer holds for the triangle abc (input
+  // coordinates; the index's are the model's local ones).
+  struct Indexed
+  {
+    strata::Model model;
+    strata::BoundaryIndex index;
+    bool thinLayer(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+    {
+      const Vec2 o = this->model.origin;
+      return this->index.thinLayer(a - o, b - o, c - o, thinnest, thickest);
+    }
+  };
+  // The tooth's lower side from (0, 0) to (3.8, 0), its upper one from (3.8, right) to (0, left).
+  const auto indexed = [](double right, double left)
+  {
+    strata::RawPolylines raw;
+    raw.form = strata::ModelForm::Loops;
+    raw.offsets.push_back(0);
+    strata_test::addClosedLoop(raw,
+      { { 0, -1 },
+        { 4, -1 },
+        { 4, 1 },
+        { 0, 1 },
+        { 0, left },
+        { 3.8, right },
+        { 3.8, 0 },
+        { 0, 0 } },
+      0);
+    strata_test::addClosedLoop(raw, { { 0, 0 }, { 3.8, 0 }, { 3.8, right }, { 0, left } }, 1);
+    strata::Model model = strata::buildModel(raw);
+    strata::BoundaryIndex index(model);
+    return Indexed{ std::move(model), std::move(index) };
+  };
+  const Vec2 a{ 1.8, -0.2 }, b{ 2.2, -0.2 }, c{ 2.0, 0.01 };
+  // A tooth 0.02 thick beside the triangle: a layer between the bounds, not outside them.
+  Indexed tooth = indexed(0.02, 0.02);
+  EXPECT_TRUE(tooth.thinLayer(a, b, c, 0.001, 0.1));
+  EXPECT_FALSE(tooth.thinLayer(a, b, c, 0.001, 0.015));
+  EXPECT_FALSE(tooth.thinLayer(a, b, c, 0.03, 0.1));
+  // Its end within `thickest` of the triangle joins its sides: no layer beside it there.
+  EXPECT_FALSE(tooth.thinLayer({ 3.6, -0.2 }, { 4.0, -0.2 }, { 3.8, 0.01 }, 0.001, 0.1));
+  // A tooth 0.3 thick, farther from the triangle than `thickest`.
+  EXPECT_FALSE(indexed(0.3, 0.3).thinLayer(a, b, c, 0.001, 0.25));
+  // A tooth widening to the left, its upper side 0.18 to 0.31 away along the part of y = 0
+  // inside a flat triangle: a layer thinner than 0.35 there, not one thinner than 0.25 (it is
+  // that close at one end only).
+  Indexed widening = indexed(0.02, 0.5);
+  const Vec2 fa{ 1.0, -0.01 }, fb{ 3.0, -0.01 }, fc{ 2.0, 0.01 };
+  EXPECT_TRUE(widening.thinLayer(fa, fb, fc, 0.001, 0.35));
+  EXPECT_FALSE(widening.thinLayer(fa, fb, fc, 0.001, 0.25));
+  // A layer 0.02 thick between two curves across the box (ending on its sides): left to the
+  // triangles that both cross.
+  strata::RawPolylines raw;
+  raw.form = strata::ModelForm::Loops;
+  raw.offsets.push_back(0);
+  strata_test::addClosedLoop(raw, { { 0, -1 }, { 4, -1 }, { 4, 0 }, { 0, 0 } }, 0);
+  strata_test::addClosedLoop(raw, { { 0, 0 }, { 4, 0 }, { 4, 0.02 }, { 0, 0.02 } }, 1);
+  strata_test::addClosedLoop(raw, { { 0, 0.02 }, { 4, 0.02 }, { 4, 1 }, { 0, 1 } }, 2);
+  strata::Model model = strata::buildModel(raw);
+  strata::BoundaryIndex index(model);
+  Indexed layer{ std::move(model), std::move(index) };
+  EXPECT_FALSE(layer.thinLayer(a, b, c, 0.001, 0.1));
+  EXPECT_TRUE(layer.thinLayer(a, b, { 2.0, 0.3 }, 0.001, 0.1));
+}
+
 TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
 {
   // gulf_section has junction pairs 0.7 m, 3.7 m and 10.9 m apart, among 60-180 m edges at

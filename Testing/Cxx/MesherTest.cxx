@@ -963,51 +963,46 @@ TEST(MesherTest, ThinLayerRefinementKeepsAFaultedSectionsBoundaryWithinHalfTheLo
   EXPECT_EQ(thin.summary.finestEdgeLength, plain.summary.finestEdgeLength);
 }
 
-// Marmousi: the grid of ThinLayerRefinement everywhere makes the compression leave a piece of a
-// layer to its neighbour (0.85 local edges off the curves; until the fifty-fourth session's
-// merges, vertices off the curves and a 9.4-degree mesh), so when the user sets it the mesh
-// without it is made too and kept, as it is better; a warning gives both meshes' figures, and
-// the time of the discarded run is a stage. That mesh, 0.501 local edges off the curves, is
-// made again at the finer level too (since 2026-12-04: a boundary above half a local edge),
-// which is within the bound (0.44; since the merges) and kept. By default the mesh without it
-// misses the boundary bound by a hair (0.50 local edges), and the one refined around that place
-// only is kept (0.40).
+// When the user sets ThinLayerRefinement and its mesh misses the bounds, the mesh without it
+// is made too and kept when it is better; a warning gives both meshes' figures, and the time of
+// the discarded run is a stage. cut_corner_section (random_sections.py 22 23): with the thin
+// layers a layer is cut (0.68 local edges off), without them it is whole (0.09). (Until the
+// sixty-seventh session this was Marmousi, whose thin layer mesh left a piece of a layer to its
+// neighbour, 0.85 local edges off; since the thin layers are looked for beside the grid's
+// triangles too, that mesh meets the bounds: 0.44 local edges, 29.98 degrees, in 0.4 s.)
+// Marmousi by default: the mesh without it misses the boundary bound by a hair (0.50 local
+// edges), and the one refined around that place only is kept (0.40).
 TEST(MesherTest, ThinLayerRefinementKeepsTheMeshWithoutItWhenItsOwnMissesTheBounds)
 {
+  const strata::RawPolylines corner =
+    strata_test::readVtpAscii(strata_test::dataPath("cut_corner_section.vtp"));
+  strata::MesherParams p;
+  p.grid.thinLayerRefinement = true;
+  const strata::MesherResult thin = strata::triangulate(corner, p);
+  EXPECT_FALSE(thin.summary.thinLayerMesh);
+  EXPECT_TRUE(thin.brokenRegions.empty());
+  EXPECT_GE(thin.summary.minAngle, 29.95);
+  EXPECT_LE(thin.summary.maxRegionAreaError, 0.005);
+  EXPECT_LE(thin.summary.maxRelativeDeviation, 0.5);
+  expectWarningsSay(thin,
+    { "the mesh with ThinLayerRefinement missed the angle, area or boundary bound",
+      "1 regions cut, boundary deviation 0.6793 local edges), so a mesh without "
+      "ThinLayerRefinement was made too",
+      "; the second one is kept" });
+  // (The discarded run's time is a stage.)
+  const auto& stages = thin.summary.secondsPerStage;
+  const auto stage = std::find_if(stages.begin(),
+    stages.end(),
+    [&](const std::pair<std::string, double>& s) { return s.first == "discarded run"; });
+  ASSERT_NE(stage, stages.end());
+  EXPECT_GE(thin.summary.totalSeconds, stage->second);
+
   const strata::RawPolylines raw =
     strata_test::readVtpAscii(strata_test::dataPath("geology_marmousi.vtp"));
   strata::MesherParams once;
   once.thinLayerRetry = false;
   const strata::MesherResult plain = strata::triangulate(raw, once);
   EXPECT_FALSE(plain.summary.thinLayerMesh);
-  strata::MesherParams p;
-  p.grid.thinLayerRefinement = true;
-  const strata::MesherResult thin = strata::triangulate(raw, p);
-  EXPECT_FALSE(thin.summary.thinLayerMesh);
-  EXPECT_EQ(thin.summary.localMaxLevel, plain.summary.localMaxLevel + 4);
-  EXPECT_GE(thin.summary.minAngle, 29.95);
-  EXPECT_LE(thin.summary.maxRegionAreaError, 0.005);
-  EXPECT_LE(thin.summary.maxRelativeDeviation, 0.5);
-  const std::string all = allWarnings(thin);
-  EXPECT_NE(all.find("the mesh with ThinLayerRefinement missed the angle, area or boundary bound"),
-    std::string::npos)
-    << all;
-  // (The discarded runs' times are stages: the mesh with ThinLayerRefinement, and, as the mesh
-  // without it is 0.501 local edges off the curves and the finer level's is kept, that one.)
-  const auto& stages = thin.summary.secondsPerStage;
-  const auto stage = [&](const char* name)
-  {
-    return std::find_if(stages.begin(),
-      stages.end(),
-      [&](const std::pair<std::string, double>& s) { return s.first == name; });
-  };
-  ASSERT_NE(stage("discarded run"), stages.end());
-  EXPECT_GE(thin.summary.totalSeconds, stage("discarded run")->second);
-  ASSERT_NE(stage("discarded level run"), stages.end());
-  EXPECT_NE(all.find("had its boundary 0.5009 local edges off the input curves"), std::string::npos)
-    << all;
-  EXPECT_NE(all.find("the finer one is kept"), std::string::npos) << all;
-
   const strata::MesherResult d = strata::triangulate(raw);
   EXPECT_GT(plain.summary.maxRelativeDeviation, 0.5);
   EXPECT_TRUE(d.summary.thinLayerMesh);
@@ -1161,8 +1156,9 @@ TEST(MesherTest, TheBoundaryDeviationIsTheLargestDistanceOverEverySample)
 
 // lake_superior at MaxLevel 6 (the paper's count): made once (ThinLayerRetry off) it keeps a
 // 25.6-degree triangle; by default that mesh misses MinimumAngle, so it is made again with
-// the thin layer refinement, which meets it, and that one is kept. A mesh that meets the
-// bounds (the salt dome) is made once either way.
+// the thin layer refinement, which meets it, and that one is kept (since the sixty-seventh
+// session, as it misplaces 0.72% of the lake's area, at LocalMaxLevel 4 levels finer, 0.01%).
+// A mesh that meets the bounds (the salt dome) is made once either way.
 TEST(MesherTest, ThinLayerRetryMendsAMeshThatMissesTheBounds)
 {
   const strata::RawPolylines lake =
@@ -1178,7 +1174,11 @@ TEST(MesherTest, ThinLayerRetryMendsAMeshThatMissesTheBounds)
   EXPECT_TRUE(retried.summary.thinLayerMesh);
   EXPECT_GE(retried.summary.minAngle, p.refinement.minimumAngle - 0.05);
   EXPECT_LE(retried.summary.maxRegionAreaError, 0.005);
-  EXPECT_EQ(retried.summary.secondsPerStage.front().first, "discarded run");
+  const auto& stages = retried.summary.secondsPerStage;
+  EXPECT_NE(std::find_if(stages.begin(),
+              stages.end(),
+              [](const std::pair<std::string, double>& s) { return s.first == "discarded run"; }),
+    stages.end());
   const std::string all = allWarnings(retried);
   EXPECT_NE(all.find("the mesh without ThinLayerRefinement missed"), std::string::npos) << all;
 
@@ -1196,7 +1196,8 @@ TEST(MesherTest, ThinLayerRetryMendsAMeshThatMissesTheBounds)
 
 // A region kept (half of its area or more) whose triangles' area is more than 10% off its
 // model area is named in a warning with the difference: without the curve recovery, the
-// countries' Liechtenstein (7) and Monaco (8); none on the salt dome.
+// countries' Monaco (8); none on the salt dome. Liechtenstein (7), within 10% net since the
+// sixty-seventh session (-10% before), is named for its misplaced area (11%).
 TEST(MesherTest, RegionAreasMoreThanTenPercentOffAreWarned)
 {
   const auto warnings = [](const char* file)
@@ -1208,8 +1209,9 @@ TEST(MesherTest, RegionAreasMoreThanTenPercentOffAreWarned)
   };
   const std::string countries = warnings("countries_westeurope.vtp");
   EXPECT_NE(countries.find("more than 10% off"), std::string::npos) << countries;
-  EXPECT_NE(countries.find("7 (-"), std::string::npos) << countries;
-  EXPECT_NE(countries.find("8 (-"), std::string::npos) << countries;
+  EXPECT_NE(countries.find("(region id and difference): 8 (-"), std::string::npos) << countries;
+  EXPECT_NE(countries.find("(region id and area lost plus added): 7 ("), std::string::npos)
+    << countries;
   EXPECT_EQ(warnings("salt_dome.vtp").find("more than 10% off"), std::string::npos);
 }
 
@@ -2745,6 +2747,30 @@ TEST(MesherTest, ABoundaryStillMoreThanALocalEdgeOffLeadsToOneLevelMore)
       "; the second one is kept, but it had its boundary 1.2721 local edges off",
       "so it was made again at LocalMaxLevel 22 (",
       "; the fourth one is kept" });
+}
+
+// A body with eleven teeth 0.056 wide (2.6 finest edges) in a box (astride_teeth_comb.vtp,
+// comb603 of random_junction_models.py 603 604). The grid's vertical lines run inside the teeth,
+// so that no grid triangle holds both sides of one: the mesh made once cuts a tooth (1.15 local
+// edges off). Until the sixty-seventh session the thin layer refinement did not see the teeth
+// either (a layer had to cross a triangle), its mesh cut one too (1.92 local edges off), and so
+// did the meshes 4, 6 and 8 levels finer (10.8-13.1 degrees): the first was kept. It now refines
+// beside a layer as well: that mesh keeps every tooth whole, within 0.02 local edges, at 30
+// degrees, and no finer level is made.
+TEST(MesherTest, ACombsTeethAstrideTheGridLinesAreKeptWhole)
+{
+  const auto [raw, r] = madeByDefault("astride_teeth_comb.vtp");
+  EXPECT_TRUE(r.summary.thinLayerMesh);
+  EXPECT_TRUE(r.brokenRegions.empty()) << allWarnings(r);
+  EXPECT_LE(r.summary.maxRelativeDeviation, 0.1);
+  EXPECT_GE(r.summary.minAngle, 30.0 - 0.05);
+  EXPECT_LE(r.summary.maxRegionMisplacedArea, 0.005);
+  EXPECT_LE(r.summary.maxBoundaryVertexDistance, 1e-9 * strata::buildModel(raw).size());
+  EXPECT_EQ(discardedLevelRuns(r), 0) << allWarnings(r);
+  expectWarningsSay(r,
+    { "1 regions cut, boundary deviation 1.1523 local edges), so a mesh with ThinLayerRefinement "
+      "was made too",
+      "; the second one is kept" });
 }
 
 // Layers a finest edge thick where they end in each other (aliased_layers_section.vtp,
