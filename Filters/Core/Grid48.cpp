@@ -794,17 +794,21 @@ bool BoundaryIndex::junctionNear(int ck, int cm, Vec2 centroid, double longest2)
   return false;
 }
 
-bool BoundaryIndex::layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+// The segments meeting the closed triangle abc (r = 0) or within r of it, in Hits (increasing),
+// and their strands in StrandEnd: runs of consecutive segments of one curve joined at a node
+// inside the triangle (r = 0) or within r of it. Returns the number of strands, at most 16.
+std::size_t BoundaryIndex::strands(Vec2 a, Vec2 b, Vec2 c, double r)
 {
-  // The segments meeting the triangle.
   this->Hits.clear();
-  this->anySegment(std::min({ a.x, b.x, c.x }),
-    std::min({ a.y, b.y, c.y }),
-    std::max({ a.x, b.x, c.x }),
-    std::max({ a.y, b.y, c.y }),
+  this->StrandEnd.clear();
+  this->anySegment(std::min({ a.x, b.x, c.x }) - r,
+    std::min({ a.y, b.y, c.y }) - r,
+    std::max({ a.x, b.x, c.x }) + r,
+    std::max({ a.y, b.y, c.y }) + r,
     [&](int s)
     {
-      if (segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
+      if (r > 0.0 ? segmentNearTriangle(this->A[s], this->B[s], a, b, c, r)
+                  : segmentMeetsTriangle(this->A[s], this->B[s], a, b, c))
       {
         this->Hits.push_back(s);
       }
@@ -812,28 +816,32 @@ bool BoundaryIndex::layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double 
     });
   if (this->Hits.size() < 2)
   {
-    return false;
+    return 0;
   }
-  // Strands: runs of consecutive segments of one curve joined at a node inside the triangle
-  // (a closed curve's strand through its start counts as two, which meet at that node: their
-  // thickness is 0, never a layer).
   std::sort(this->Hits.begin(), this->Hits.end());
-  this->StrandEnd.clear();
   const std::size_t n = this->Hits.size();
   for (std::size_t i = 1; i <= n; ++i)
   {
     const int s = this->Hits[i - 1];
     if (i == n || this->Hits[i] != s + 1 || this->ChainOf[s + 1] != this->ChainOf[s] ||
-      !pointInTriangle(this->B[s], a, b, c))
+      !(r > 0.0 ? pointNearTriangle(this->B[s], a, b, c, r) : pointInTriangle(this->B[s], a, b, c)))
     {
       this->StrandEnd.push_back(static_cast<int>(i));
     }
   }
-  const std::size_t strands = std::min<std::size_t>(this->StrandEnd.size(), 16);
+  return std::min<std::size_t>(this->StrandEnd.size(), 16);
+}
+
+bool BoundaryIndex::layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
+{
+  // The segments meeting the triangle, in strands (a closed curve's strand through its start
+  // counts as two, which meet at that node: their thickness is 0, never a layer).
+  const std::size_t strands = this->strands(a, b, c, 0.0);
   if (strands < 2)
   {
     return false;
   }
+  const std::size_t n = this->Hits.size();
   // Each hit's part inside the triangle, by its ends and middle.
   this->StrandPoints.resize(3 * n);
   for (std::size_t i = 0; i < n; ++i)
@@ -884,45 +892,16 @@ bool BoundaryIndex::layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double 
 
 bool BoundaryIndex::layerBeside(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest)
 {
-  // The segments within `thickest` of the triangle.
+  // The segments within `thickest` of the triangle, in strands joined at nodes within it too,
+  // so that a curve passing by is one strand and a layer's end near the triangle (where its
+  // two sides join) is not a layer beside it.
   const double r = thickest;
-  this->Hits.clear();
-  this->anySegment(std::min({ a.x, b.x, c.x }) - r,
-    std::min({ a.y, b.y, c.y }) - r,
-    std::max({ a.x, b.x, c.x }) + r,
-    std::max({ a.y, b.y, c.y }) + r,
-    [&](int s)
-    {
-      if (segmentNearTriangle(this->A[s], this->B[s], a, b, c, r))
-      {
-        this->Hits.push_back(s);
-      }
-      return false;
-    });
-  if (this->Hits.size() < 2)
-  {
-    return false;
-  }
-  // Strands: runs of consecutive segments of one curve joined at a node within `thickest` of
-  // the triangle, so that a curve passing by is one strand and a layer's end near the
-  // triangle (where its two sides join) is not a layer beside it.
-  std::sort(this->Hits.begin(), this->Hits.end());
-  this->StrandEnd.clear();
-  const std::size_t n = this->Hits.size();
-  for (std::size_t i = 1; i <= n; ++i)
-  {
-    const int s = this->Hits[i - 1];
-    if (i == n || this->Hits[i] != s + 1 || this->ChainOf[s + 1] != this->ChainOf[s] ||
-      !pointNearTriangle(this->B[s], a, b, c, r))
-    {
-      this->StrandEnd.push_back(static_cast<int>(i));
-    }
-  }
-  const std::size_t strands = std::min<std::size_t>(this->StrandEnd.size(), 16);
+  const std::size_t strands = this->strands(a, b, c, r);
   if (strands < 2)
   {
     return false;
   }
+  const std::size_t n = this->Hits.size();
   const auto first = [&](std::size_t k) { return k == 0 ? 0 : this->StrandEnd[k - 1]; };
   // The hits meeting the triangle, with their parts inside it (StrandPoints), and whether
   // each strand has one.

@@ -102,6 +102,7 @@ public:
 
 private:
   void build(const Model& model, Vec2 origin, double side);
+  std::size_t strands(Vec2 a, Vec2 b, Vec2 c, double r);
   bool layerAcross(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
   bool layerBeside(Vec2 a, Vec2 b, Vec2 c, double thinnest, double thickest);
   bool junctionNear(int ck, int cm, Vec2 centroid, double longest2) const;
