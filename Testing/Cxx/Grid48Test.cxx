@@ -953,6 +953,28 @@ TEST(Grid48Test, a_curve_come_back_beside_a_triangle_is_a_thin_layer_two_curves_
   Indexed layer{ std::move(model), std::move(index) };
   EXPECT_FALSE(layer.thinLayer(a, b, c, 0.001, 0.1));
   EXPECT_TRUE(layer.thinLayer(a, b, { 2.0, 0.3 }, 0.001, 0.1));
+  // A square island 1 wide (a closed curve with no junction: its run of segments starts at
+  // one of its corners) and a small triangle beside each corner, across one side: the curve
+  // turning there is one strand, through the curve's start too.
+  strata::RawPolylines islandRaw;
+  islandRaw.form = strata::ModelForm::Loops;
+  islandRaw.offsets.push_back(0);
+  const std::vector<Vec2> square{ { 1, -0.5 }, { 2, -0.5 }, { 2, 0.5 }, { 1, 0.5 } };
+  strata_test::addClosedLoop(islandRaw, { { 0, -1 }, { 4, -1 }, { 4, 1 }, { 0, 1 } }, 0);
+  strata_test::addClosedLoop(islandRaw, square, 0);
+  strata_test::addClosedLoop(islandRaw, square, 1);
+  strata::Model islandModel = strata::buildModel(islandRaw);
+  strata::BoundaryIndex islandIndex(islandModel);
+  Indexed island{ std::move(islandModel), std::move(islandIndex) };
+  for (const double x : { 1.03, 1.92 })
+  {
+    for (const double y : { -0.5, 0.5 })
+    {
+      EXPECT_FALSE(island.thinLayer(
+        { x, y - 0.02 }, { x + 0.05, y - 0.02 }, { x + 0.025, y + 0.02 }, 0.001, 0.1))
+        << "beside the corner near (" << x << ", " << y << ")";
+    }
+  }
 }
 
 TEST(Grid48Test, close_junctions_end_up_in_different_triangles)
