@@ -4378,11 +4378,9 @@ std::size_t Refiner::extendWedges()
   // corners, held 434 M items in their lists at once: 1.7 GB).
   const std::size_t nc = corners.size();
   std::vector<double> reach(nc);
-  std::vector<Vec2> apex(nc);
   for (std::size_t i = 0; i < nc; ++i)
   {
     reach[i] = 2.0 * std::max(polylineLength(corners[i].first), polylineLength(corners[i].second));
-    apex[i] = corners[i].apex;
   }
   const std::size_t chunk = this->P.wedgeChunk;
   const bool chunked = nc > chunk;
@@ -4395,13 +4393,14 @@ std::size_t Refiner::extendWedges()
   for (std::size_t first = 0; first < nc && this->Inserted < this->Budget; first += chunk)
   {
     const std::size_t count = std::min(chunk, nc - first);
-    const std::vector<Vec2> centre(apex.begin() + first, apex.begin() + first + count);
     // (The disks' boxes widened against rounding, for the grid and the chunk's box: a vertex
     // within a disk may lie a hair beyond its rounded box.)
+    std::vector<Vec2> centre(count);
     std::vector<double> radius2(count), wide(count);
     Box2 chunkBox;
     for (std::size_t i = 0; i < count; ++i)
     {
+      centre[i] = corners[first + i].apex;
       radius2[i] = reach[first + i] * reach[first + i];
       wide[i] =
         reach[first + i] * (1.0 + 1e-9) + 1e-12 * (std::fabs(centre[i].x) + std::fabs(centre[i].y));
