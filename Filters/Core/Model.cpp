@@ -28,6 +28,15 @@
 //    on the other segment, collinear overlap) is an error. Of all defects found the one of
 //    the lowest pair of segment numbers is reported, so that the message does not depend on
 //    the grid (a shifted or scaled model reports the same defect).
+// 4b. Borders between two loops of one region (Loops form). A segment that a region's loops
+//    have twice, one on each side (two loops side by side: a country given as its provinces;
+//    a hole that touches its outer loop along a border; a loop that runs back along itself)
+//    is no border of that region by the even-odd rule. Once the rings are oriented (6), each
+//    such region's rings are traced again from its border segments alone (keepBorders). A
+//    segment that is no border of any region is "dead": it is left out of the junctions'
+//    degrees and of the curves (a loop is cut into open runs there), with one warning per
+//    region, so the mesh does not follow it (before, it did: the region was meshed in two
+//    with a false boundary warning and finer meshes made again for it).
 // 5. Regions. Loops form: the rings of region r are its loops. Shared curves form: curves are
 //    cut into pieces at nodes of the segment graph whose degree is not 2 (junctions), an end
 //    of degree 1 is a dangling end (error), and the faces of the planar graph are traced: each
@@ -43,6 +52,14 @@
 //    ring. In the Shared curves form the traced orientation must already agree; a face cycle that
 //    does not is a region labelled outside the model's outer boundary (error).
 // 7. Junctions are the nodes of degree != 2 in the graph of unique segments.
+// 8. Overlaps. Every place must belong to one region at most. Two regions on the same side of
+//    one segment (loops of two regions, or one loop given twice, along the same border with
+//    their regions inside it) are an error, and so is a region's border inside another
+//    region that does not border it there: the even-odd test of a midpoint of each ring and
+//    of each run of it between junctions against the other regions' rings. Without it an
+//    island whose surrounding region has no hole for it (a Loops form region without the hole
+//    loop; a Shared curves island whose outer side is labelled -1) was meshed as one of the
+//    two, the other's area lost with a misleading warning.
 #include "Model.h"
 
 #include "Errors.h"
@@ -111,6 +128,7 @@ enum WarningKind
   DegenerateCell,
   ShortLoop,
   ImpliedClosing,
+  CancelledBorder,
   NumberOfWarningKinds
 };
 
@@ -152,6 +170,7 @@ public:
       "cells of zero length were ignored",
       "loops with fewer than 3 distinct points were ignored",
       "loops were closed by joining their last point to their first",
+      "regions had borders between two of their own loops, which are no border",
     };
     for (int k = 0; k < NumberOfWarningKinds; ++k)
     {
@@ -803,6 +822,298 @@ void orientRings(Region& region, bool traced, Vec2 origin)
 }
 
 //------------------------------------------------------------------------------
+// Borders between two loops of one region (Loops form, step 4b). A segment that a region's
+// loops have twice (one on each side: the same-side case is an error of step 8) is no border
+// of it by the even-odd rule: a region given as pieces side by side (a country of provinces),
+// or a hole that touches its outer loop along a border.
+struct LoopSegment
+{
+  std::uint64_t key;
+  int region;
+  std::int64_t cell;
+  bool operator<(const LoopSegment& o) const
+  {
+    return std::tie(key, region, cell) < std::tie(o.key, o.region, o.cell);
+  }
+};
+
+/// Whether region `region` has the segment `key` an odd number of times (sorted `all`).
+bool isLoopBorder(const std::vector<LoopSegment>& all, std::uint64_t key, int region)
+{
+  const auto lo = std::lower_bound(
+    all.begin(), all.end(), LoopSegment{ key, region, std::numeric_limits<std::int64_t>::min() });
+  std::size_t count = 0;
+  for (auto it = lo; it != all.end() && it->key == key && it->region == region; ++it)
+  {
+    ++count;
+  }
+  return count % 2 == 1;
+}
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+/// Makes the rings of an oriented region again from its border segments alone, when some of
+/// its segments are no border (isBorder(key) false): each border segment keeps its direction
+/// (the region on its left), and a walk arriving at a node goes on with the first border
+/// segment clockwise from the reversed incoming direction, so that rings touching at a node
+/// are traced apart and every ring keeps the region on its left.
+template<class IsBorder>
+void keepBorders(Region& region,
+  const std::vector<Vec2>& nodes,
+  const Vec2 origin,
+  const IsBorder& isBorder)
+{
+  struct Arc
+  {
+    int from;
+    int to;
+    std::int64_t cell;
+  };
+  std::vector<Arc> arcs;
+  bool cancelled = false;
+  for (const Ring& ring : region.rings)
+  {
+    const std::size_t n = ring.nodes.size();
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      const int a = ring.nodes[j], b = ring.nodes[(j + 1) % n];
+      if (isBorder(edgeKey(a, b)))
+      {
+        arcs.push_back({ a, b, ring.segmentCell[j] });
+      }
+      else
+      {
+        cancelled = true;
+      }
+    }
+  }
+  if (!cancelled)
+  {
+    return;
+  }
+  std::vector<int> byFrom(arcs.size());
+  for (std::size_t i = 0; i < arcs.size(); ++i)
+  {
+    byFrom[i] = static_cast<int>(i);
+  }
+  std::sort(
+    byFrom.begin(), byFrom.end(), [&arcs](int x, int y) { return arcs[x].from < arcs[y].from; });
+  std::vector<int> next(arcs.size(), -1);
+  for (std::size_t i = 0; i < arcs.size(); ++i)
+  {
+    const int v = arcs[i].to;
+    const Vec2 back = nodes[arcs[i].from] - nodes[v];
+    auto it = std::lower_bound(
+      byFrom.begin(), byFrom.end(), v, [&arcs](int x, int value) { return arcs[x].from < value; });
+    double best = std::numeric_limits<double>::infinity();
+    for (; it != byFrom.end() && arcs[*it].from == v; ++it)
+    {
+      const Vec2 d = nodes[arcs[*it].to] - nodes[v];
+      const double ccw = std::atan2(cross(back, d), dot(back, d));
+      const double cw = ccw > 0.0 ? kTwoPi - ccw : -ccw;
+      if (cw > 0.0 && cw < best)
+      {
+        best = cw;
+        next[i] = *it;
+      }
+    }
+  }
+  std::vector<char> used(arcs.size(), 0);
+  std::vector<Ring> rings;
+  for (std::size_t s = 0; s < arcs.size(); ++s)
+  {
+    if (used[s])
+    {
+      continue;
+    }
+    Ring ring;
+    int a = static_cast<int>(s);
+    while (a >= 0 && !used[a])
+    {
+      used[a] = 1;
+      ring.nodes.push_back(arcs[a].from);
+      ring.points.push_back(nodes[arcs[a].from]);
+      ring.segmentCell.push_back(arcs[a].cell);
+      a = next[a];
+    }
+    if (a != static_cast<int>(s))
+    {
+      throw InputError("the borders of region " + std::to_string(region.id) + " do not close at " +
+        pointText(nodes[arcs[s].from] + origin) + " (" + cellText(arcs[s].cell) +
+        ") once the segments between two of its loops are left out");
+    }
+    if (ring.nodes.size() >= 3)
+    {
+      rings.push_back(std::move(ring));
+    }
+  }
+  region.rings = std::move(rings);
+}
+
+//------------------------------------------------------------------------------
+// Overlapping regions (step 8). Throws when two regions share ground. A segment that one region
+// has an even number of times (two of its loops side by side, a hole touching its outer loop)
+// is no border of it (the even-odd rule); the others are, with the region on the left of its
+// oriented ring. Two regions on one side of a segment overlap (loops of two regions given along
+// the same border with both inside it), and so is one region twice on one side (a loop given
+// twice). A border segment of one region inside another region that does not border it there
+// is an overlap too (an island inside a region that has no hole for it: a Loops form region
+// without the hole loop, or a Shared curves island whose outer side is labelled -1). That test
+// is made at the midpoint of the first border segment of each ring and of each run of it
+// between nodes of degree != 2: along such a run no other border comes near, so every region
+// but those bordering the run contains all of it or none of it.
+void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loops)
+{
+  struct Side
+  {
+    std::uint64_t key;
+    int region; ///< index into model.regions
+    bool left;  ///< the region lies left of the segment from its lower node id to its higher
+    std::int64_t cell;
+  };
+  std::vector<Side> sides;
+  std::vector<Ring> all; // every region's rings, for the point tests
+  std::vector<int> ringRegion;
+  std::vector<std::int64_t> ringCell;
+  for (std::size_t r = 0; r < model.regions.size(); ++r)
+  {
+    for (const Ring& ring : model.regions[r].rings)
+    {
+      const std::size_t n = ring.nodes.size();
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        const int a = ring.nodes[j], b = ring.nodes[(j + 1) % n];
+        sides.push_back({ edgeKey(a, b), static_cast<int>(r), a < b, ring.segmentCell[j] });
+      }
+      Ring copy;
+      copy.points = ring.points;
+      all.push_back(std::move(copy));
+      ringRegion.push_back(static_cast<int>(r));
+      ringCell.push_back(ring.segmentCell[0]);
+    }
+  }
+  std::sort(sides.begin(),
+    sides.end(),
+    [](const Side& s, const Side& t)
+    { return std::tie(s.key, s.region, s.left) < std::tie(t.key, t.region, t.left); });
+  const auto segmentText = [&model](std::uint64_t key)
+  {
+    const auto a = static_cast<std::size_t>(key >> 32);
+    const auto b = static_cast<std::size_t>(key & 0xffffffffu);
+    return "the segment from " + pointText(model.nodes[a] + model.origin) + " to " +
+      pointText(model.nodes[b] + model.origin);
+  };
+  // The borders: one entry per (segment, region) that the region has an odd number of times.
+  // One region twice on one side is a loop given twice (two loops of a region side by side, or
+  // a hole touching its outer loop, put it on both sides: by the even-odd rule, on neither).
+  std::vector<Side> borders;
+  for (std::size_t i = 0; i < sides.size();)
+  {
+    std::size_t e = i + 1;
+    while (e < sides.size() && sides[e].key == sides[i].key && sides[e].region == sides[i].region)
+    {
+      if (sides[e].left == sides[e - 1].left)
+      {
+        throw InputError(cellText(sides[e - 1].cell) + " and " + cellText(sides[e].cell) +
+          " both put region " + std::to_string(model.regions[sides[i].region].id) +
+          " on the same side of " + segmentText(sides[i].key) +
+          ": a loop given twice cancels itself by the even-odd rule; give each loop once");
+      }
+      ++e;
+    }
+    if ((e - i) % 2 == 1)
+    {
+      if (!borders.empty() && borders.back().key == sides[i].key &&
+        borders.back().left == sides[i].left)
+      {
+        const Side& s = borders.back();
+        throw InputError("regions " + std::to_string(model.regions[s.region].id) + " and " +
+          std::to_string(model.regions[sides[i].region].id) + " overlap: " + cellText(s.cell) +
+          " and " + cellText(sides[i].cell) + " both put their region on the same side of " +
+          segmentText(s.key) + "; each place belongs to one region");
+      }
+      borders.push_back(sides[i]);
+    }
+    i = e;
+  }
+  const auto isBorder = [&borders](std::uint64_t key, int region)
+  {
+    const auto it = std::lower_bound(borders.begin(),
+      borders.end(),
+      std::make_pair(key, region),
+      [](const Side& s, const std::pair<std::uint64_t, int>& k)
+      { return std::make_pair(s.key, s.region) < k; });
+    return it != borders.end() && it->key == key && it->region == region;
+  };
+  const RegionLocator locator(all);
+  std::vector<int> crossed;
+  std::vector<int> parity(model.regions.size(), 0);
+  for (std::size_t r = 0; r < model.regions.size(); ++r)
+  {
+    const int id = model.regions[r].id;
+    for (const Ring& ring : model.regions[r].rings)
+    {
+      const std::size_t n = ring.nodes.size();
+      bool runStart = true;
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        runStart = runStart || degree[ring.nodes[j]] != 2;
+        const std::uint64_t key = edgeKey(ring.nodes[j], ring.nodes[(j + 1) % n]);
+        if (!isBorder(key, static_cast<int>(r)))
+        {
+          continue;
+        }
+        if (!runStart || model.regions.size() < 2)
+        {
+          continue;
+        }
+        runStart = false;
+        const Vec2 m = 0.5 * (ring.points[j] + ring.points[(j + 1) % n]);
+        crossed.clear();
+        locator.crossings(m, crossed);
+        for (const int c : crossed)
+        {
+          parity[ringRegion[c]] ^= 1;
+        }
+        // The regions that have this segment (bordering it, or cancelling it) are left out.
+        const auto lo = std::lower_bound(sides.begin(),
+          sides.end(),
+          key,
+          [](const Side& s, std::uint64_t k) { return s.key < k; });
+        for (auto it = lo; it != sides.end() && it->key == key; ++it)
+        {
+          parity[it->region] = 0;
+        }
+        int over = -1;
+        for (const int c : crossed)
+        {
+          if (parity[ringRegion[c]] != 0 && over < 0)
+          {
+            over = c;
+          }
+        }
+        for (const int c : crossed)
+        {
+          parity[ringRegion[c]] = 0;
+        }
+        if (over >= 0)
+        {
+          const int q = model.regions[ringRegion[over]].id;
+          throw InputError("regions " + std::to_string(id) + " and " + std::to_string(q) +
+            " overlap: the border of region " + std::to_string(id) + " at " +
+            pointText(m + model.origin) + " (" + cellText(ring.segmentCell[j]) +
+            ") lies inside region " + std::to_string(q) + " (" + cellText(ringCell[over]) + ")" +
+            (loops ? "; in the Loops form a region around another needs a loop around the hole "
+                     "too (the even-odd rule)"
+                   : "; in the Shared curves form a curve inside region " + std::to_string(q) +
+                  " has " + std::to_string(q) + " on that side, not -1"));
+        }
+      }
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
 // Face tracing of the Shared curves form. Returns rings per region id.
 std::map<int, std::vector<Ring>> traceFaces(const Model& model, const std::vector<int>& degree)
 {
@@ -1440,16 +1751,77 @@ Model buildModelChecked(const RawPolylines& input, const ModelParams& params)
       " without a shared vertex");
   }
 
+  // --- 4b. Borders between two loops of one region (Loops form): no border of it, and of no
+  // region when every region that has the segment has it twice ("dead": left out of the
+  // junctions and of the curves, below).
+  std::vector<LoopSegment> loopSegments;
+  std::vector<std::uint64_t> dead;
+  if (loops)
+  {
+    loopSegments.reserve(segs.size());
+    for (const Segment& g : segs)
+    {
+      const Curve& c = model.curves[g.curve];
+      loopSegments.push_back({ edgeKey(g.a, g.b), c.left, c.sourceCell });
+    }
+    std::sort(loopSegments.begin(), loopSegments.end());
+    std::map<int, std::pair<std::size_t, std::size_t>> deadOf; // region -> (count, first index)
+    for (std::size_t i = 0; i < loopSegments.size();)
+    {
+      std::size_t e = i;
+      bool odd = false;
+      while (e < loopSegments.size() && loopSegments[e].key == loopSegments[i].key)
+      {
+        std::size_t f = e;
+        while (f < loopSegments.size() && loopSegments[f].key == loopSegments[e].key &&
+          loopSegments[f].region == loopSegments[e].region)
+        {
+          ++f;
+        }
+        odd = odd || (f - e) % 2 == 1;
+        e = f;
+      }
+      if (!odd)
+      {
+        dead.push_back(loopSegments[i].key);
+        ++deadOf.emplace(loopSegments[i].region, std::make_pair(std::size_t(0), i))
+            .first->second.first;
+      }
+      i = e;
+    }
+    for (const auto& [region, entry] : deadOf)
+    {
+      const LoopSegment& g = loopSegments[entry.second];
+      const LoopSegment& h = loopSegments[entry.second + 1];
+      const auto a = static_cast<std::size_t>(g.key >> 32);
+      const auto b = static_cast<std::size_t>(g.key & 0xffffffffu);
+      warnings.add(CancelledBorder,
+        "region " + std::to_string(region) + ": " + std::to_string(entry.first) +
+          (entry.first == 1 ? " segment has" : " segments have") +
+          " the region on both sides (the first from " + pointText(model.nodes[a] + model.origin) +
+          " to " + pointText(model.nodes[b] + model.origin) +
+          (g.cell == h.cell ? ", where " + cellText(g.cell) + " runs back along itself"
+                            : ", between " + cellText(g.cell) + " and " + cellText(h.cell)) +
+          "): by the even-odd rule no border, so the mesh does not follow it");
+    }
+  }
+  const auto isDead = [&dead](std::uint64_t key)
+  { return !dead.empty() && std::binary_search(dead.begin(), dead.end(), key); };
+
   // --- Degrees and junctions.
   std::vector<int> degree(model.nodes.size(), 0);
   for (std::size_t u : unique)
   {
+    if (isDead(edgeKey(segs[u].a, segs[u].b)))
+    {
+      continue;
+    }
     ++degree[segs[u].a];
     ++degree[segs[u].b];
   }
   for (std::size_t v = 0; v < degree.size(); ++v)
   {
-    if (degree[v] != 2)
+    if (degree[v] != 2 && degree[v] != 0) // (0: a node only dead segments reach)
     {
       model.junctions.push_back(static_cast<int>(v));
     }
@@ -1514,6 +1886,90 @@ Model buildModelChecked(const RawPolylines& input, const ModelParams& params)
       }
     }
     model.regions.push_back(std::move(region));
+  }
+
+  // --- 8. Overlaps.
+  checkOverlaps(model, degree, loops);
+
+  // --- 4b, continued: each region's rings without the segments between two of its loops, and
+  // the curves without the dead segments.
+  if (loops)
+  {
+    for (Region& region : model.regions)
+    {
+      keepBorders(region,
+        model.nodes,
+        model.origin,
+        [&](std::uint64_t key) { return isLoopBorder(loopSegments, key, region.id); });
+    }
+  }
+  if (!dead.empty())
+  {
+    std::vector<Curve> curves;
+    for (Curve& c : model.curves)
+    {
+      const std::size_t n = c.nodes.size();
+      const std::size_t ns = c.closed ? n : n - 1;
+      std::size_t start = ns;
+      for (std::size_t k = 0; k < ns && start == ns; ++k)
+      {
+        start = isDead(edgeKey(c.nodes[k], c.nodes[(k + 1) % n])) ? k : ns;
+      }
+      if (start == ns)
+      {
+        curves.push_back(std::move(c));
+        continue;
+      }
+      // The runs of live segments, from the one after the first dead segment on.
+      Curve run;
+      const auto flush = [&]()
+      {
+        if (run.nodes.size() >= 2)
+        {
+          run.closed = false;
+          run.left = c.left;
+          run.right = c.right;
+          run.sourceCell = c.sourceCell;
+          curves.push_back(std::move(run));
+        }
+        run = Curve();
+      };
+      for (std::size_t i = 1; i <= ns; ++i)
+      {
+        const std::size_t k = c.closed ? (start + i) % ns : start + i;
+        if (k >= ns)
+        {
+          break;
+        }
+        const std::size_t k1 = (k + 1) % n;
+        if (isDead(edgeKey(c.nodes[k], c.nodes[k1])))
+        {
+          flush();
+          continue;
+        }
+        if (run.nodes.empty())
+        {
+          run.nodes.push_back(c.nodes[k]);
+          run.points.push_back(c.points[k]);
+        }
+        run.nodes.push_back(c.nodes[k1]);
+        run.points.push_back(c.points[k1]);
+      }
+      flush();
+      if (!c.closed)
+      {
+        // (an open curve: its run before the first dead segment too)
+        Curve head;
+        for (std::size_t k = 0; k <= start; ++k)
+        {
+          head.nodes.push_back(c.nodes[k]);
+          head.points.push_back(c.points[k]);
+        }
+        run = std::move(head);
+        flush();
+      }
+    }
+    model.curves = std::move(curves);
   }
 
   model.warnings = warnings.take();

@@ -90,7 +90,8 @@ struct Model
   Vec2 origin;                      ///< add to local coordinates to get input coordinates
   Box2 bounds;                      ///< local bounds of all curves
   std::vector<Vec2> nodes;          ///< merged distinct points (local)
-  std::vector<Curve> curves;        ///< one per kept input cell
+  std::vector<Curve> curves;        ///< one per kept input cell (a loop with segments that are
+                                    ///< no border: one per run of its other segments)
   std::vector<Region> regions;      ///< sorted by id; only ids >= 0
   std::vector<int> junctions;       ///< node ids where 3+ curve branches meet or a curve ends
   std::vector<std::string> warnings;///< repairs made (dropped duplicates, ignored cells, ...)
@@ -106,10 +107,15 @@ struct Model
 /// fault for: no region arrays, no line cells, NaN/Inf coordinates, region id < -1, a loop
 /// that self-intersects (also after the implied closing edge; the message gives the gap),
 /// curves crossing or touching without a shared vertex (the message gives the point),
-/// dangling curve ends that leave a region open, and inconsistent left/right labels of one
-/// face. Repairs with a warning: repeated consecutive points, zero-length and one-point cells,
-/// polygon cells in the Loops form, non-line cells. Empty input gives an empty model and a
-/// warning. Throws ParameterError for parameters out of range.
+/// dangling curve ends that leave a region open, inconsistent left/right labels of one
+/// face, regions that overlap (two regions on one side of a border, or a region's border
+/// inside another region: an island without its hole) and a loop given twice for one region.
+/// Repairs with a warning: repeated consecutive points, zero-length and one-point cells,
+/// polygon cells in the Loops form, non-line cells, and (Loops form) segments with the same
+/// region on both sides (between two of its loops, or where a loop runs back along itself),
+/// which are no border by the even-odd rule: they are left out of the rings, the curves and
+/// the junctions. Empty input gives an empty model and a warning. Throws ParameterError for
+/// parameters out of range.
 Model buildModel(const RawPolylines& input, const ModelParams& params = {});
 
 } // namespace strata

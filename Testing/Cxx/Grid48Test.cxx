@@ -617,12 +617,15 @@ TEST(Grid48Test, local_criterion_leaves_no_triangle_crossed_by_two_curves)
 
 TEST(Grid48Test, thin_region_refinement_resolves_a_thin_lens_bounded_by_one_curve)
 {
-  // One closed curve: a lens 0.02 thick and 2 long in a 4 x 4 square region (Loops form).
+  // One closed curve: a lens 0.02 thick and 2 long in a 4 x 4 square region (Loops form: the
+  // lens is region 1's loop and region 0's hole).
   strata::RawPolylines raw;
   raw.form = strata::ModelForm::Loops;
   raw.offsets.push_back(0);
   strata_test::addClosedLoop(raw, { { -2, -2 }, { 2, -2 }, { 2, 2 }, { -2, 2 } }, 0);
-  strata_test::addClosedLoop(raw, { { -1, 0.011 }, { 1, 0.011 }, { 1, 0.031 }, { -1, 0.031 } }, 1);
+  const std::vector<Vec2> lens{ { -1, 0.011 }, { 1, 0.011 }, { 1, 0.031 }, { -1, 0.031 } };
+  strata_test::addClosedLoop(raw, lens, 0);
+  strata_test::addClosedLoop(raw, lens, 1);
   const strata::Model model = strata::buildModel(raw);
   const strata::DistanceField field(model);
   Grid48Params p;

@@ -352,6 +352,31 @@ TEST(MesherTest, MalformedInputThrowsInputError)
     strata::InputError);
 }
 
+TEST(MesherTest, ARegionGivenAsLoopsSideBySideIsMeshedAsTheRegionOfOneLoop)
+{
+  // The border between two loops of region 0 is no border (the even-odd rule): the mesh is
+  // the mesh of region 0 given as one loop, triangle for triangle, with one warning more.
+  strata::RawPolylines halves;
+  strata_test::addLoop(halves, { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 }, { 0, 0 } }, 0);
+  strata_test::addLoop(halves, { { 1, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 }, { 1, 0 } }, 0);
+  strata_test::addLoop(halves, { { 2, 0 }, { 3, 0 }, { 3, 1 }, { 2, 1 }, { 2, 0 } }, 1);
+  strata::RawPolylines whole;
+  strata_test::addLoop(
+    whole, { { 0, 0 }, { 1, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 }, { 0, 1 }, { 0, 0 } }, 0);
+  strata_test::addLoop(whole, { { 2, 0 }, { 3, 0 }, { 3, 1 }, { 2, 1 }, { 2, 0 } }, 1);
+  const strata::MesherResult a = strata::triangulate(halves);
+  const strata::MesherResult b = strata::triangulate(whole);
+  ASSERT_EQ(a.triangles.size(), b.triangles.size());
+  EXPECT_EQ(a.points.size(), b.points.size());
+  for (std::size_t i = 0; i < a.points.size() && i < b.points.size(); ++i)
+  {
+    EXPECT_EQ(a.points[i], b.points[i]) << "point " << i;
+  }
+  EXPECT_EQ(a.regionId, b.regionId);
+  EXPECT_EQ(a.warnings.size(), b.warnings.size() + 1) << allWarnings(a);
+  expectWarningsSay(a, { "region 0: 1 segment has the region on both sides" });
+}
+
 TEST(MesherTest, ParameterErrorsComeBeforeAnyWork)
 {
   strata::MesherParams p;

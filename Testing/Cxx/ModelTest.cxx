@@ -803,7 +803,9 @@ TEST(ModelTest, loops_may_repeat_a_neighbours_border)
 
 TEST(ModelTest, loops_of_one_region_side_by_side_keep_their_area)
 {
-  // A 3 x 3 block of unit squares, all region 0: the middle square shares all its edges.
+  // A 3 x 3 block of unit squares, all region 0: the middle square shares all its edges. By the
+  // even-odd rule the 12 inner edges are no border: the region is one ring, the outline, and
+  // the curves keep only the outline's 12 edges.
   RawPolylines raw;
   for (int j = 0; j < 3; ++j)
   {
@@ -815,12 +817,143 @@ TEST(ModelTest, loops_of_one_region_side_by_side_keep_their_area)
   }
   const Model model = buildModel(raw);
   ASSERT_EQ(model.regions.size(), 1u);
-  EXPECT_EQ(model.regions[0].rings.size(), 9u);
+  ASSERT_EQ(model.regions[0].rings.size(), 1u);
+  EXPECT_EQ(model.regions[0].rings[0].nodes.size(), 12u);
   EXPECT_DOUBLE_EQ(regionArea(model.regions[0]), 9.0);
   EXPECT_EQ(model.nodes.size(), 16u);
-  // Nodes of degree != 2 in the union of edges: the 4 inner crossings (4) and the 8 T-nodes of
-  // the outline (3); the 4 corners have degree 2.
-  EXPECT_EQ(model.junctions.size(), 12u);
+  std::size_t segments = 0;
+  for (const strata::Curve& c : model.curves)
+  {
+    EXPECT_FALSE(c.closed);
+    segments += c.nodes.size() - 1;
+  }
+  EXPECT_EQ(segments, 12u);
+  // Without the inner edges every node of the outline has degree 2.
+  EXPECT_TRUE(model.junctions.empty());
+  EXPECT_TRUE(anyWarningContains(model, "region 0: 12 segments have the region on both sides"));
+  expectWellFormed(model);
+}
+
+TEST(ModelTest, a_region_given_as_two_loops_side_by_side_is_the_region_of_one)
+{
+  // Region 0 as the two unit squares of [0,2]x[0,1], region 1 beside it: the same rings,
+  // curves' segments and junctions as region 0 given as one loop, and a warning naming the
+  // border between the two loops.
+  RawPolylines halves;
+  addLoop(halves, { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } }, 0);
+  addLoop(halves, { { 1, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 } }, 0);
+  addLoop(halves, { { 2, 0 }, { 3, 0 }, { 3, 1 }, { 2, 1 } }, 1);
+  RawPolylines whole;
+  addLoop(whole, { { 0, 0 }, { 1, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 }, { 0, 1 } }, 0);
+  addLoop(whole, { { 2, 0 }, { 3, 0 }, { 3, 1 }, { 2, 1 } }, 1);
+  const Model a = buildModel(halves);
+  const Model b = buildModel(whole);
+  expectSameRegions(a, b);
+  ASSERT_EQ(a.regions[0].rings.size(), 1u);
+  EXPECT_EQ(a.regions[0].rings[0].nodes.size(), 6u);
+  EXPECT_EQ(a.junctions.size(), b.junctions.size());
+  EXPECT_TRUE(anyWarningContains(a,
+    "region 0: 1 segment has the region on both sides (the "
+    "first from (1, 0) to (1, 1), between cell 0 and cell 1)"));
+  EXPECT_FALSE(anyWarningContains(b, "on both sides"));
+  expectWellFormed(a);
+}
+
+TEST(ModelTest, a_loop_running_back_along_itself_loses_the_spike_with_a_warning)
+{
+  // A spike of no width from (10, 5) into the square and back: on both of its sides lies the
+  // square's region, so it is no border. Rings and junctions are those of the square alone.
+  RawPolylines spiked;
+  addLoop(
+    spiked, { { 0, 0 }, { 10, 0 }, { 10, 5 }, { 6, 5 }, { 10, 5 }, { 10, 10 }, { 0, 10 } }, 0);
+  RawPolylines plain;
+  addLoop(plain, { { 0, 0 }, { 10, 0 }, { 10, 5 }, { 10, 10 }, { 0, 10 } }, 0);
+  const Model a = buildModel(spiked);
+  const Model b = buildModel(plain);
+  expectSameRegions(a, b);
+  EXPECT_EQ(a.regions[0].rings[0].nodes.size(), 5u);
+  EXPECT_TRUE(a.junctions.empty());
+  EXPECT_TRUE(anyWarningContains(a,
+    "region 0: 1 segment has the region on both sides (the first "
+    "from (10, 5) to (6, 5), where cell 0 runs back along itself)"));
+  expectWellFormed(a);
+}
+
+TEST(ModelTest, rejects_an_island_whose_surrounding_region_has_no_hole_for_it)
+{
+  // Loops form: region 1's square lies inside region 0's, which has no loop around the hole.
+  RawPolylines loops;
+  addLoop(loops, { { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 } }, 0);
+  addLoop(loops, { { 4, 4 }, { 6, 4 }, { 6, 6 }, { 4, 6 } }, 1);
+  std::string msg = inputError(loops);
+  EXPECT_CONTAINS(msg,
+    "regions 1 and 0 overlap: the border of region 1 at (5, 4) (cell 1) lies "
+    "inside region 0 (cell 0)");
+  EXPECT_CONTAINS(msg, "needs a loop around the hole");
+  // With the hole loop it is the island of a frame.
+  addLoop(loops, { { 4, 4 }, { 6, 4 }, { 6, 6 }, { 4, 6 } }, 0);
+  const Model model = buildModel(loops);
+  ASSERT_EQ(model.regions.size(), 2u);
+  EXPECT_DOUBLE_EQ(regionArea(model.regions[0]), 96.0);
+  // Shared curves form: the island's outer side labelled -1 instead of 0.
+  RawPolylines shared;
+  addCurve(shared, { { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 }, { 0, 0 } }, 0, -1);
+  addCurve(shared, { { 4, 4 }, { 6, 4 }, { 6, 6 }, { 4, 6 }, { 4, 4 } }, 1, -1);
+  msg = inputError(shared);
+  EXPECT_CONTAINS(msg,
+    "regions 1 and 0 overlap: the border of region 1 at (5, 4) (cell 1) lies "
+    "inside region 0 (cell 0)");
+  EXPECT_CONTAINS(msg, "has 0 on that side, not -1");
+  // Two islands side by side, neither inside the other, are two pieces of one model.
+  RawPolylines apart;
+  addCurve(apart, { { 0, 0 }, { 10, 0 }, { 10, 10 }, { 0, 10 }, { 0, 0 } }, 0, -1);
+  addCurve(apart, { { 14, 4 }, { 16, 4 }, { 16, 6 }, { 14, 6 }, { 14, 4 } }, 1, -1);
+  EXPECT_EQ(buildModel(apart).regions.size(), 2u);
+}
+
+TEST(ModelTest, rejects_two_regions_on_one_side_of_a_border)
+{
+  // Region 1 is given the loop of region 0: both lie inside the same square.
+  RawPolylines raw = twoSquaresLoops();
+  addLoop(raw, { { 0, 0 }, { 0, 1 }, { 1, 1 }, { 1, 0 } }, 1); // clockwise: orientation is free
+  EXPECT_CONTAINS(inputError(raw),
+    "regions 0 and 1 overlap: cell 0 and cell 2 both put their "
+    "region on the same side of the segment from (");
+}
+
+TEST(ModelTest, rejects_a_loop_given_twice)
+{
+  // By the even-odd rule the two copies cancel and leave region 0 nothing.
+  RawPolylines raw = twoSquaresLoops();
+  addLoop(raw, { { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } }, 0);
+  const std::string msg = inputError(raw);
+  EXPECT_CONTAINS(msg, "cell 0 and cell 2 both put region 0 on the same side of the segment");
+  EXPECT_CONTAINS(msg, "a loop given twice");
+}
+
+TEST(ModelTest, a_hole_touching_its_outer_loop_along_a_border_is_no_overlap)
+{
+  // A 2 x 2 checkerboard: region 0 is the squares [0,1]^2 and [1,2]^2, region 1 the box with
+  // both as holes. Each hole shares two sides with the box's loop (those cancel for region 1)
+  // and touches the other hole at (1, 1).
+  RawPolylines raw;
+  const std::vector<Vec2> low{ { 0, 0 }, { 1, 0 }, { 1, 1 }, { 0, 1 } };
+  const std::vector<Vec2> high{ { 1, 1 }, { 2, 1 }, { 2, 2 }, { 1, 2 } };
+  addLoop(raw, low, 0);
+  addLoop(raw, high, 0);
+  addLoop(
+    raw, { { 0, 0 }, { 1, 0 }, { 2, 0 }, { 2, 1 }, { 2, 2 }, { 1, 2 }, { 0, 2 }, { 0, 1 } }, 1);
+  addLoop(raw, low, 1);
+  addLoop(raw, high, 1);
+  const Model model = buildModel(raw);
+  ASSERT_EQ(model.regions.size(), 2u);
+  EXPECT_DOUBLE_EQ(regionArea(model.regions[0]), 2.0);
+  EXPECT_DOUBLE_EQ(regionArea(model.regions[1]), 2.0);
+  // Region 1 is the two other squares, traced apart at (1, 1); the cancelled sides are region
+  // 0's borders, so they stay curves and no warning is given.
+  EXPECT_EQ(model.regions[1].rings.size(), 2u);
+  EXPECT_FALSE(anyWarningContains(model, "on both sides"));
+  expectWellFormed(model);
 }
 
 TEST(ModelTest, rejects_vertex_touching_another_loop_without_a_shared_vertex)

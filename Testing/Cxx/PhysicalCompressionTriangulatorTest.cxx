@@ -4,11 +4,13 @@
 #include "AdapterTestUtilities.h"
 
 #include <vtkCallbackCommand.h>
+#include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkFieldData.h>
 #include <vtkIdList.h>
+#include <vtkIntArray.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -351,6 +353,41 @@ TEST(PhysicalCompressionTriangulatorTest, bad_inputs_fail_with_an_error_naming_t
     EXPECT_NE(log->Errors.find(needle), std::string::npos) << file << ": " << log->Errors;
     EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0) << file;
   }
+}
+
+TEST(PhysicalCompressionTriangulatorTest, overlapping_regions_fail_with_an_error_naming_both)
+{
+  // reference_loops_ok without region 0's loop around the hole (cell 1): region 1's square
+  // then lies inside region 0 too.
+  auto reader = Reader("bad_inputs/reference_loops_ok.vtp");
+  reader->Update();
+  vtkPolyData* frame = reader->GetOutput();
+  vtkNew<vtkPolyData> island;
+  island->SetPoints(frame->GetPoints());
+  vtkNew<vtkCellArray> lines;
+  vtkNew<vtkIntArray> regions;
+  regions->SetName("RegionId");
+  vtkDataArray* ids = frame->GetCellData()->GetArray("RegionId");
+  vtkNew<vtkIdList> cell;
+  for (vtkIdType c = 0; c < frame->GetNumberOfCells(); ++c)
+  {
+    if (c != 1)
+    {
+      frame->GetCellPoints(c, cell);
+      lines->InsertNextCell(cell);
+      regions->InsertNextValue(static_cast<int>(ids->GetComponent(c, 0)));
+    }
+  }
+  island->SetLines(lines);
+  island->GetCellData()->AddArray(regions);
+  vtkNew<vtkPhysicalCompressionTriangulator> mesher;
+  mesher->SetInputData(island);
+  auto log = Watch(mesher);
+  mesher->Update();
+  EXPECT_NE(
+    log->Errors.find("regions 1 and 0 overlap: the border of region 1 at ("), std::string::npos)
+    << log->Errors;
+  EXPECT_EQ(mesher->GetOutput()->GetNumberOfCells(), 0);
 }
 
 TEST(PhysicalCompressionTriangulatorTest, array_names_the_input_lacks_are_named_with_its_arrays)
