@@ -971,31 +971,6 @@ void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loop
     bool left;  ///< the region lies left of the segment from its lower node id to its higher
     std::int64_t cell;
   };
-  std::vector<Side> sides;
-  std::vector<Ring> all; // every region's rings, for the point tests
-  std::vector<int> ringRegion;
-  std::vector<std::int64_t> ringCell;
-  for (std::size_t r = 0; r < model.regions.size(); ++r)
-  {
-    for (const Ring& ring : model.regions[r].rings)
-    {
-      const std::size_t n = ring.nodes.size();
-      for (std::size_t j = 0; j < n; ++j)
-      {
-        const int a = ring.nodes[j], b = ring.nodes[(j + 1) % n];
-        sides.push_back({ edgeKey(a, b), static_cast<int>(r), a < b, ring.segmentCell[j] });
-      }
-      Ring copy;
-      copy.points = ring.points;
-      all.push_back(std::move(copy));
-      ringRegion.push_back(static_cast<int>(r));
-      ringCell.push_back(ring.segmentCell[0]);
-    }
-  }
-  std::sort(sides.begin(),
-    sides.end(),
-    [](const Side& s, const Side& t)
-    { return std::tie(s.key, s.region, s.left) < std::tie(t.key, t.region, t.left); });
   const auto segmentText = [&model](std::uint64_t key)
   {
     const auto a = static_cast<std::size_t>(key >> 32);
@@ -1003,54 +978,91 @@ void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loop
     return "the segment from " + pointText(model.nodes[a] + model.origin) + " to " +
       pointText(model.nodes[b] + model.origin);
   };
-  // The borders: one entry per (segment, region) that the region has an odd number of times.
+  // The Loops form's sides (the Shared curves form has one label per side by construction):
+  // one entry per (segment, region) that the region has an odd number of times, its borders.
   // One region twice on one side is a loop given twice (two loops of a region side by side, or
   // a hole touching its outer loop, put it on both sides: by the even-odd rule, on neither).
+  std::vector<Side> sides;
   std::vector<Side> borders;
-  for (std::size_t i = 0; i < sides.size();)
+  if (loops)
   {
-    std::size_t e = i + 1;
-    while (e < sides.size() && sides[e].key == sides[i].key && sides[e].region == sides[i].region)
+    for (std::size_t r = 0; r < model.regions.size(); ++r)
     {
-      if (sides[e].left == sides[e - 1].left)
+      for (const Ring& ring : model.regions[r].rings)
       {
-        throw InputError(cellText(sides[e - 1].cell) + " and " + cellText(sides[e].cell) +
-          " both put region " + std::to_string(model.regions[sides[i].region].id) +
-          " on the same side of " + segmentText(sides[i].key) +
-          ": a loop given twice cancels itself by the even-odd rule; give each loop once");
+        const std::size_t n = ring.nodes.size();
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          const int a = ring.nodes[j], b = ring.nodes[(j + 1) % n];
+          sides.push_back({ edgeKey(a, b), static_cast<int>(r), a < b, ring.segmentCell[j] });
+        }
       }
-      ++e;
     }
-    if ((e - i) % 2 == 1)
+    std::sort(sides.begin(),
+      sides.end(),
+      [](const Side& s, const Side& t)
+      { return std::tie(s.key, s.region, s.left) < std::tie(t.key, t.region, t.left); });
+    for (std::size_t i = 0; i < sides.size();)
     {
-      if (!borders.empty() && borders.back().key == sides[i].key &&
-        borders.back().left == sides[i].left)
+      std::size_t e = i + 1;
+      while (e < sides.size() && sides[e].key == sides[i].key && sides[e].region == sides[i].region)
       {
-        const Side& s = borders.back();
-        throw InputError("regions " + std::to_string(model.regions[s.region].id) + " and " +
-          std::to_string(model.regions[sides[i].region].id) + " overlap: " + cellText(s.cell) +
-          " and " + cellText(sides[i].cell) + " both put their region on the same side of " +
-          segmentText(s.key) + "; each place belongs to one region");
+        if (sides[e].left == sides[e - 1].left)
+        {
+          throw InputError(cellText(sides[e - 1].cell) + " and " + cellText(sides[e].cell) +
+            " both put region " + std::to_string(model.regions[sides[i].region].id) +
+            " on the same side of " + segmentText(sides[i].key) +
+            ": a loop given twice cancels itself by the even-odd rule; give each loop once");
+        }
+        ++e;
       }
-      borders.push_back(sides[i]);
+      if ((e - i) % 2 == 1)
+      {
+        if (!borders.empty() && borders.back().key == sides[i].key &&
+          borders.back().left == sides[i].left)
+        {
+          const Side& s = borders.back();
+          throw InputError("regions " + std::to_string(model.regions[s.region].id) + " and " +
+            std::to_string(model.regions[sides[i].region].id) + " overlap: " + cellText(s.cell) +
+            " and " + cellText(sides[i].cell) + " both put their region on the same side of " +
+            segmentText(s.key) + "; each place belongs to one region");
+        }
+        borders.push_back(sides[i]);
+      }
+      i = e;
     }
-    i = e;
   }
-  const auto isBorder = [&borders](std::uint64_t key, int region)
+  if (model.regions.size() < 2)
   {
-    const auto it = std::lower_bound(borders.begin(),
-      borders.end(),
-      std::make_pair(key, region),
-      [](const Side& s, const std::pair<std::uint64_t, int>& k)
-      { return std::make_pair(s.key, s.region) < k; });
-    return it != borders.end() && it->key == key && it->region == region;
+    return;
+  }
+  // The regions that have a segment (bordering it or, in the Loops form, cancelling it):
+  // their parity at its midpoint is left out. In the Shared curves form, its curve's labels.
+  std::vector<std::pair<int, int>> cellLabels;
+  if (!loops)
+  {
+    for (const Curve& c : model.curves)
+    {
+      const auto cell = static_cast<std::size_t>(c.sourceCell);
+      if (cellLabels.size() <= cell)
+      {
+        cellLabels.resize(cell + 1, { -1, -1 });
+      }
+      cellLabels[cell] = { model.regionIndex(c.left), model.regionIndex(c.right) };
+    }
+  }
+  // The test points: the midpoint of the first border segment of each ring and of each run of
+  // it between nodes of degree != 2.
+  struct Test
+  {
+    Vec2 m;
+    int region;
+    std::uint64_t key;
+    std::int64_t cell;
   };
-  const RegionLocator locator(all);
-  std::vector<int> crossed;
-  std::vector<int> parity(model.regions.size(), 0);
+  std::vector<Test> tests;
   for (std::size_t r = 0; r < model.regions.size(); ++r)
   {
-    const int id = model.regions[r].id;
     for (const Ring& ring : model.regions[r].rings)
     {
       const std::size_t n = ring.nodes.size();
@@ -1059,57 +1071,123 @@ void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loop
       {
         runStart = runStart || degree[ring.nodes[j]] != 2;
         const std::uint64_t key = edgeKey(ring.nodes[j], ring.nodes[(j + 1) % n]);
-        if (!isBorder(key, static_cast<int>(r)))
+        if (!runStart)
         {
           continue;
         }
-        if (!runStart || model.regions.size() < 2)
+        if (loops)
         {
-          continue;
-        }
-        runStart = false;
-        const Vec2 m = 0.5 * (ring.points[j] + ring.points[(j + 1) % n]);
-        crossed.clear();
-        locator.crossings(m, crossed);
-        for (const int c : crossed)
-        {
-          parity[ringRegion[c]] ^= 1;
-        }
-        // The regions that have this segment (bordering it, or cancelling it) are left out.
-        const auto lo = std::lower_bound(sides.begin(),
-          sides.end(),
-          key,
-          [](const Side& s, std::uint64_t k) { return s.key < k; });
-        for (auto it = lo; it != sides.end() && it->key == key; ++it)
-        {
-          parity[it->region] = 0;
-        }
-        int over = -1;
-        for (const int c : crossed)
-        {
-          if (parity[ringRegion[c]] != 0 && over < 0)
+          const auto it = std::lower_bound(borders.begin(),
+            borders.end(),
+            std::make_pair(key, static_cast<int>(r)),
+            [](const Side& s, const std::pair<std::uint64_t, int>& k)
+            { return std::make_pair(s.key, s.region) < k; });
+          if (it == borders.end() || it->key != key || it->region != static_cast<int>(r))
           {
-            over = c;
+            continue; // no border of this region
           }
         }
-        for (const int c : crossed)
+        runStart = false;
+        tests.push_back({ 0.5 * (ring.points[j] + ring.points[(j + 1) % n]),
+          static_cast<int>(r),
+          key,
+          ring.segmentCell[j] });
+      }
+    }
+  }
+  // One sweep over every ring segment: the rays from the test points towards +x that it
+  // crosses (the test points sorted by y; a segment is crossed by the points whose y lies in
+  // [its lower y, its upper y)), each crossing noted as (test, ring).
+  std::vector<int> byY(tests.size());
+  for (std::size_t t = 0; t < tests.size(); ++t)
+  {
+    byY[t] = static_cast<int>(t);
+  }
+  std::sort(byY.begin(), byY.end(), [&tests](int x, int y) { return tests[x].m.y < tests[y].m.y; });
+  std::vector<std::pair<int, int>> crossings; // (test, ring)
+  std::vector<int> ringRegion;
+  std::vector<std::int64_t> ringCell;
+  for (std::size_t r = 0; r < model.regions.size(); ++r)
+  {
+    for (const Ring& ring : model.regions[r].rings)
+    {
+      const int index = static_cast<int>(ringRegion.size());
+      ringRegion.push_back(static_cast<int>(r));
+      ringCell.push_back(ring.segmentCell[0]);
+      const std::size_t n = ring.points.size();
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        const Vec2 a = ring.points[j], b = ring.points[(j + 1) % n];
+        const double lo = std::min(a.y, b.y), hi = std::max(a.y, b.y);
+        auto it = std::lower_bound(
+          byY.begin(), byY.end(), lo, [&tests](int t, double y) { return tests[t].m.y < y; });
+        for (; it != byY.end() && tests[*it].m.y < hi; ++it)
         {
-          parity[ringRegion[c]] = 0;
-        }
-        if (over >= 0)
-        {
-          const int q = model.regions[ringRegion[over]].id;
-          throw InputError("regions " + std::to_string(id) + " and " + std::to_string(q) +
-            " overlap: the border of region " + std::to_string(id) + " at " +
-            pointText(m + model.origin) + " (" + cellText(ring.segmentCell[j]) +
-            ") lies inside region " + std::to_string(q) + " (" + cellText(ringCell[over]) + ")" +
-            (loops ? "; in the Loops form a region around another needs a loop around the hole "
-                     "too (the even-odd rule)"
-                   : "; in the Shared curves form a curve inside region " + std::to_string(q) +
-                  " has " + std::to_string(q) + " on that side, not -1"));
+          const Vec2 p = tests[*it].m;
+          if ((a.y > p.y) != (b.y > p.y) && a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) > p.x)
+          {
+            crossings.emplace_back(*it, index);
+          }
         }
       }
     }
+  }
+  std::sort(crossings.begin(), crossings.end());
+  std::vector<int> parity(model.regions.size(), 0);
+  for (std::size_t i = 0; i < crossings.size();)
+  {
+    const Test& test = tests[crossings[i].first];
+    std::size_t e = i;
+    for (; e < crossings.size() && crossings[e].first == crossings[i].first; ++e)
+    {
+      parity[ringRegion[crossings[e].second]] ^= 1;
+    }
+    parity[test.region] = 0;
+    if (loops)
+    {
+      const auto lo = std::lower_bound(sides.begin(),
+        sides.end(),
+        test.key,
+        [](const Side& s, std::uint64_t k) { return s.key < k; });
+      for (auto it = lo; it != sides.end() && it->key == test.key; ++it)
+      {
+        parity[it->region] = 0;
+      }
+    }
+    else if (static_cast<std::size_t>(test.cell) < cellLabels.size())
+    {
+      for (const int q : { cellLabels[test.cell].first, cellLabels[test.cell].second })
+      {
+        if (q >= 0)
+        {
+          parity[q] = 0;
+        }
+      }
+    }
+    int over = -1;
+    for (std::size_t k = i; k < e; ++k)
+    {
+      const int ring = crossings[k].second;
+      if (over < 0 && parity[ringRegion[ring]] != 0)
+      {
+        over = ring;
+      }
+      parity[ringRegion[ring]] = 0;
+    }
+    if (over >= 0)
+    {
+      const int id = model.regions[test.region].id;
+      const int q = model.regions[ringRegion[over]].id;
+      throw InputError("regions " + std::to_string(id) + " and " + std::to_string(q) +
+        " overlap: the border of region " + std::to_string(id) + " at " +
+        pointText(test.m + model.origin) + " (" + cellText(test.cell) + ") lies inside region " +
+        std::to_string(q) + " (" + cellText(ringCell[over]) + ")" +
+        (loops ? "; in the Loops form a region around another needs a loop around the hole "
+                 "too (the even-odd rule)"
+               : "; in the Shared curves form a curve inside region " + std::to_string(q) +
+              " has " + std::to_string(q) + " on that side, not -1"));
+    }
+    i = e;
   }
 }
 

@@ -98,6 +98,12 @@ def size(cells):
     return max(max(xs) - min(xs), max(ys) - min(ys)), min(xs), min(ys)
 
 
+def random_segment(rng, chain):
+    """A random segment of chain (at least 2 points): its index and its two ends."""
+    j = rng.randrange(len(chain) - 1)
+    return j, chain[j], chain[j + 1]
+
+
 def mutate(rng, loops, cells):
     """One random mutation; returns a description."""
     s, x0, y0 = size(cells)
@@ -191,8 +197,7 @@ def mutate(rng, loops, cells):
     if kind == "near_point":
         if len(chain) < 2:
             return "noop"
-        j = rng.randrange(len(chain) - 1)
-        a, b = chain[j], chain[j + 1]
+        j, a, b = random_segment(rng, chain)
         t = 10 ** rng.uniform(-15, -5)
         chain.insert(j + 1, [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
         return "%s cell %d after %d t=%.3g (valid)" % (kind, c, j, t)
@@ -205,8 +210,7 @@ def mutate(rng, loops, cells):
     if kind == "zigzag":
         if len(chain) < 2:
             return "noop"
-        j = rng.randrange(len(chain) - 1)
-        a, b = chain[j], chain[j + 1]
+        j, a, b = random_segment(rng, chain)
         dx, dy = b[0] - a[0], b[1] - a[1]
         n = rng.randint(3, 40)
         amp = rng.uniform(0.01, 2.0)

@@ -92,6 +92,137 @@ def runs(mask):
     return out
 
 
+def rings_of(f):
+    """The exterior and interior rings of polygon f."""
+    return [f.exterior] + list(f.interiors)
+
+
+def labelled_faces(lines, label, tiny):
+    """The faces of the noded line work (counter-clockwise), each labelled label(its
+    representative point), a face below tiny in area given the label it shares the most
+    boundary with: (faces, labels, directed edge -> face on its left, tiny faces merged)."""
+    faces = [orient(f, 1.0) for f in polygonize(unary_union(MultiLineString(lines)))]
+    labels = [label(f.representative_point()) for f in faces]
+    left_of = {}  # directed edge -> face on its left
+    for i, f in enumerate(faces):
+        for r in rings_of(f):
+            c = list(r.coords)
+            for a, b in zip(c[:-1], c[1:]):
+                left_of[(a, b)] = i
+    merged = 0
+    for i in sorted(range(len(faces)), key=lambda i: faces[i].area):
+        if faces[i].area >= tiny:
+            break
+        if labels[i] < 0:
+            continue
+        contact = defaultdict(float)
+        for r in rings_of(faces[i]):
+            c = list(r.coords)
+            for a, b in zip(c[:-1], c[1:]):
+                other = labels[left_of[(b, a)]] if (b, a) in left_of else -1
+                if other != labels[i]:
+                    contact[other] += math.dist(a, b)
+        if contact:
+            best = max((v, k) for k, v in contact.items() if k >= 0 or len(contact) == 1)[1]
+            labels[i] = best
+            merged += 1
+    return faces, labels, left_of, merged
+
+
+def shared_curves(left_of, labels, original, fresh_ids=False):
+    """The edges between different labels (labels[left_of[edge]] on their left, -1 where no
+    face is) chained from junction to junction (vertices where the number of such edges is not
+    2 or the label pair changes), closed curves without junctions as they are. Vertices not in
+    original where a dissolved line crossed a boundary go first. Returns (chains, each
+    (vertices, (left, right)); the edges, id -> [a, b, left, right]; the vertices gone).
+    fresh_ids: an edge joined over a vertex that goes takes an id above both it replaces (else
+    the next above the edges left, as this script numbers them)."""
+    # Boundary edges (different labels on both sides), with left and right labels.
+    edges = {}  # id -> [a, b, left, right]
+    seen = set()
+    for (a, b), i in left_of.items():
+        if (b, a) in seen:
+            continue
+        seen.add((a, b))
+        left = labels[i]
+        right = labels[left_of[(b, a)]] if (b, a) in left_of else -1
+        if left != right:
+            edges[len(edges)] = [a, b, left, right]
+    at = defaultdict(set)
+    for e, (a, b, _, _) in edges.items():
+        at[a].add(e)
+        at[b].add(e)
+
+    def through(v, e_in, e_out):
+        """e_in oriented to end at v, e_out to start at v: (a, L, R), (c, L, R)."""
+        a, b, left, right = edges[e_in]
+        first = (a, left, right) if b == v else (b, right, left)
+        a, b, left, right = edges[e_out]
+        second = (b, left, right) if a == v else (a, right, left)
+        return first, second
+
+    # Vertices where a dissolved line crossed a boundary: off the input vertices, on a
+    # straight run between two boundary vertices with the same labels; they go.
+    removed = set()
+    for v in list(at):
+        if v in original or len(at[v]) != 2:
+            continue
+        e1, e2 = sorted(at[v])
+        (a, l1, r1), (c, l2, r2) = through(v, e1, e2)
+        if (l1, r1) != (l2, r2) or a == c:
+            continue
+        ax, ay, cx_, cy_ = a[0], a[1], c[0], c[1]
+        length = math.hypot(cx_ - ax, cy_ - ay)
+        off = abs((cx_ - ax) * (v[1] - ay) - (cy_ - ay) * (v[0] - ax)) / length
+        along = ((v[0] - ax) * (cx_ - ax) + (v[1] - ay) * (cy_ - ay)) / length ** 2
+        if off > 1e-10 * length or not 0 < along < 1:
+            continue
+        del edges[e1], edges[e2]
+        e = max(edges, default=max(e1, e2)) + 1
+        if fresh_ids:
+            e = max(e, e1 + 1, e2 + 1)
+        edges[e] = [a, c, l1, r1]
+        at[a] = (at[a] - {e1, e2}) | {e}
+        at[c] = (at[c] - {e1, e2}) | {e}
+        del at[v]
+        removed.add(v)
+
+    # Chains between junctions (degree != 2 or the label pair changes).
+    junction = set()
+    for v, es in at.items():
+        if len(es) != 2:
+            junction.add(v)
+            continue
+        e1, e2 = sorted(es)
+        (_, l1, r1), (_, l2, r2) = through(v, e1, e2)
+        if (l1, r1) != (l2, r2):
+            junction.add(v)
+    used = set()
+    chains = []
+
+    def walk(v, e):
+        chain, pair = [v], None
+        while True:
+            used.add(e)
+            a, b, left, right = edges[e]
+            v, lr = (b, (left, right)) if a == v else (a, (right, left))
+            assert pair is None or pair == lr
+            pair = lr
+            chain.append(v)
+            if v in junction or v == chain[0]:
+                return chain, pair
+            e = next(iter(at[v] - {e}))
+
+    for v in sorted(junction):
+        for e in sorted(at[v]):
+            if e not in used:
+                chains.append(walk(v, e))
+    for e in sorted(edges):
+        if e not in used:  # a closed curve without junctions
+            chains.append(walk(edges[e][0], e))
+    return chains, edges, removed
+
+
 def section(seed):
     """The section of one seed: (chains with left/right labels, loops with ids, description)."""
     rng = np.random.default_rng(seed)
@@ -306,118 +437,10 @@ def section(seed):
         return sum(int(y > np.interp(x, X, hk)) for hk in blocks[j])
 
     # Faces, their labels, tiny faces to their neighbour.
-    faces = [orient(f, 1.0) for f in polygonize(unary_union(MultiLineString(lines)))]
-    labels = [label(f.representative_point()) for f in faces]
-    left_of = {}  # directed edge -> face on its left
-
-    def rings_of(f):
-        return [f.exterior] + list(f.interiors)
-
-    for i, f in enumerate(faces):
-        for r in rings_of(f):
-            c = list(r.coords)
-            for a, b in zip(c[:-1], c[1:]):
-                left_of[(a, b)] = i
     tiny = 1e-9 * width * height
-    merged = 0
-    for i in sorted(range(len(faces)), key=lambda i: faces[i].area):
-        if faces[i].area >= tiny:
-            break
-        if labels[i] < 0:
-            continue
-        contact = defaultdict(float)
-        for r in rings_of(faces[i]):
-            c = list(r.coords)
-            for a, b in zip(c[:-1], c[1:]):
-                other = labels[left_of[(b, a)]] if (b, a) in left_of else -1
-                if other != labels[i]:
-                    contact[other] += math.dist(a, b)
-        if contact:
-            best = max((v, k) for k, v in contact.items() if k >= 0 or len(contact) == 1)[1]
-            labels[i] = best
-            merged += 1
-
-    # Boundary edges (different labels on both sides), with left and right labels.
-    edges = {}  # id -> [a, b, left, right]
-    seen = set()
-    for (a, b), i in left_of.items():
-        if (b, a) in seen:
-            continue
-        seen.add((a, b))
-        left = labels[i]
-        right = labels[left_of[(b, a)]] if (b, a) in left_of else -1
-        if left != right:
-            edges[len(edges)] = [a, b, left, right]
-    at = defaultdict(set)
-    for e, (a, b, _, _) in edges.items():
-        at[a].add(e)
-        at[b].add(e)
-
-    def through(v, e_in, e_out):
-        """e_in oriented to end at v, e_out to start at v: (a, L, R), (c, L, R)."""
-        a, b, left, right = edges[e_in]
-        first = (a, left, right) if b == v else (b, right, left)
-        a, b, left, right = edges[e_out]
-        second = (b, left, right) if a == v else (a, right, left)
-        return first, second
-
-    # Vertices where a dissolved line crossed a boundary: off the input vertices, on a
-    # straight run between two boundary vertices with the same labels; they go.
-    removed = set()
-    for v in list(at):
-        if v in original or len(at[v]) != 2:
-            continue
-        e1, e2 = sorted(at[v])
-        (a, l1, r1), (c, l2, r2) = through(v, e1, e2)
-        if (l1, r1) != (l2, r2) or a == c:
-            continue
-        ax, ay, cx_, cy_ = a[0], a[1], c[0], c[1]
-        length = math.hypot(cx_ - ax, cy_ - ay)
-        off = abs((cx_ - ax) * (v[1] - ay) - (cy_ - ay) * (v[0] - ax)) / length
-        along = ((v[0] - ax) * (cx_ - ax) + (v[1] - ay) * (cy_ - ay)) / length ** 2
-        if off > 1e-10 * length or not 0 < along < 1:
-            continue
-        del edges[e1], edges[e2]
-        e = max(edges, default=max(e1, e2)) + 1
-        edges[e] = [a, c, l1, r1]
-        at[a] = (at[a] - {e1, e2}) | {e}
-        at[c] = (at[c] - {e1, e2}) | {e}
-        del at[v]
-        removed.add(v)
-
-    # Shared curves: chains between junctions (degree != 2 or the label pair changes).
-    junction = set()
-    for v, es in at.items():
-        if len(es) != 2:
-            junction.add(v)
-            continue
-        e1, e2 = sorted(es)
-        (_, l1, r1), (_, l2, r2) = through(v, e1, e2)
-        if (l1, r1) != (l2, r2):
-            junction.add(v)
-    used = set()
-    chains = []
-
-    def walk(v, e):
-        chain, pair = [v], None
-        while True:
-            used.add(e)
-            a, b, left, right = edges[e]
-            v, lr = (b, (left, right)) if a == v else (a, (right, left))
-            assert pair is None or pair == lr
-            pair = lr
-            chain.append(v)
-            if v in junction or v == chain[0]:
-                return chain, pair
-            e = next(iter(at[v] - {e}))
-
-    for v in sorted(junction):
-        for e in sorted(at[v]):
-            if e not in used:
-                chains.append(walk(v, e))
-    for e in sorted(edges):
-        if e not in used:  # a closed curve without junctions
-            chains.append(walk(edges[e][0], e))
+    faces, labels, left_of, merged = labelled_faces(lines, label, tiny)
+    # Shared curves: the boundary edges chained between junctions.
+    chains, edges, removed = shared_curves(left_of, labels, original)
 
     # Loops: the rings of each label's union, on the same vertices.
     edge_labels = {frozenset((a, b)): (left, right) for a, b, left, right in edges.values()}

@@ -34,34 +34,20 @@ import sys
 from collections import defaultdict
 
 import numpy as np
-import vtk
 from scipy.interpolate import splev, splprep
-from shapely.geometry import LineString, MultiLineString, Point, Polygon
+from shapely.geometry import LineString, MultiLineString, Polygon
 from shapely.geometry.polygon import orient
 from shapely.ops import polygonize, unary_union
+
+# same folder
+from random_faulted_sections import (gentle, labelled_faces, polydata, rings_of, runs,
+                                     shared_curves, wave)
+from random_sections import write_vtp
 
 KINDS = ["diapir", "graben", "elongated", "unconformity"]
 
 
 # ----------------------------------------------------------------------------- helpers
-def write_vtp(path, poly):
-    """poly to path as ASCII VTK XML PolyData (as random_sections.py)."""
-    writer = vtk.vtkXMLPolyDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(poly)
-    writer.SetDataModeToAscii()
-    writer.Write()
-
-
-def wave(x, width, amp, rng, terms=3):
-    """A smooth random curve of about amp: a few sines over x."""
-    y = np.zeros_like(x)
-    for j in range(1, terms + 1):
-        y += amp * rng.normal() / j * np.sin(2 * np.pi * rng.uniform(0.3, 1.5) * j * x / width
-                                             + rng.uniform(0, 2 * np.pi))
-    return y
-
-
 def bump(x, a, b, ramp):
     """1 on [a, b], 0 farther than ramp from it, smooth in between."""
     d = np.maximum(0.0, np.maximum(a - x, x - b)) / ramp
@@ -81,12 +67,6 @@ def stack(X, width, n, rng, thin=(), amp=0.3, var=0.6):
             t = t * (1 - 0.95 * bump(X, a, b, width * rng.uniform(0.03, 0.2)))
         h.append(h[-1] + t)
     return h
-
-
-def gentle(w, x, steepest):
-    """w scaled down, if need be, so that its slope nowhere exceeds steepest."""
-    s = np.abs(np.diff(w) / np.diff(x)).max()
-    return w * (steepest / s) if s > steepest else w
 
 
 def fit(h, lo, hi):
@@ -326,14 +306,9 @@ def unconformity(rng):
     for y in low_h:
         below = y <= U
         below = below | np.r_[below[1:], False] | np.r_[False, below[:-1]]
-        start = None
-        for i, b in enumerate(np.r_[below, False]):
-            if b and start is None:
-                start = i
-            if not b and start is not None:
-                if i - start > 1:
-                    lines.append(LineString(np.c_[X[start:i], y[start:i]]))
-                start = None
+        for a, b in runs(below):
+            if b > a:
+                lines.append(LineString(np.c_[X[a:b + 1], y[a:b + 1]]))
 
     def label(q):
         if not box.contains(q):
@@ -349,114 +324,14 @@ def unconformity(rng):
 
 # ----------------------------------------------------------------------------- line work
 def curves_of(lines, label, area):
-    """The shared curves (chains with (left, right) labels) of the noded line work."""
+    """The shared curves (chains with (left, right) labels) of the noded line work, as
+    random_faulted_sections.py finds them (but an edge joined over a dropped vertex gets an id
+    above both it replaces): (chains, faces, tiny faces merged)."""
     original = set()
     for line in lines:
         original.update(line.coords)
-    faces = [orient(f, 1.0) for f in polygonize(unary_union(MultiLineString(lines)))]
-    labels = [label(f.representative_point()) for f in faces]
-    left_of = {}
-
-    def rings_of(f):
-        return [f.exterior] + list(f.interiors)
-
-    for i, f in enumerate(faces):
-        for r in rings_of(f):
-            c = list(r.coords)
-            for a, b in zip(c[:-1], c[1:]):
-                left_of[(a, b)] = i
-    tiny = 1e-9 * area
-    merged = 0
-    for i in sorted(range(len(faces)), key=lambda i: faces[i].area):
-        if faces[i].area >= tiny:
-            break
-        if labels[i] < 0:
-            continue
-        contact = defaultdict(float)
-        for r in rings_of(faces[i]):
-            c = list(r.coords)
-            for a, b in zip(c[:-1], c[1:]):
-                other = labels[left_of[(b, a)]] if (b, a) in left_of else -1
-                if other != labels[i]:
-                    contact[other] += math.dist(a, b)
-        if contact:
-            labels[i] = max((v, k) for k, v in contact.items() if k >= 0 or len(contact) == 1)[1]
-            merged += 1
-    edges = {}
-    seen = set()
-    for (a, b), i in left_of.items():
-        if (b, a) in seen:
-            continue
-        seen.add((a, b))
-        left = labels[i]
-        right = labels[left_of[(b, a)]] if (b, a) in left_of else -1
-        if left != right:
-            edges[len(edges)] = [a, b, left, right]
-    at = defaultdict(set)
-    for e, (a, b, _, _) in edges.items():
-        at[a].add(e)
-        at[b].add(e)
-
-    def through(v, e_in, e_out):
-        a, b, left, right = edges[e_in]
-        first = (a, left, right) if b == v else (b, right, left)
-        a, b, left, right = edges[e_out]
-        second = (b, left, right) if a == v else (a, right, left)
-        return first, second
-
-    # Vertices added where a dissolved line crossed a curve (not input vertices, on a straight
-    # run with the same labels) go.
-    for v in list(at):
-        if v in original or len(at[v]) != 2:
-            continue
-        e1, e2 = sorted(at[v])
-        (a, l1, r1), (c, l2, r2) = through(v, e1, e2)
-        if (l1, r1) != (l2, r2) or a == c:
-            continue
-        length = math.dist(a, c)
-        off = abs((c[0] - a[0]) * (v[1] - a[1]) - (c[1] - a[1]) * (v[0] - a[0])) / length
-        along = ((v[0] - a[0]) * (c[0] - a[0]) + (v[1] - a[1]) * (c[1] - a[1])) / length ** 2
-        if off > 1e-10 * length or not 0 < along < 1:
-            continue
-        del edges[e1], edges[e2]
-        e = max(edges, default=max(e1, e2)) + 1
-        e = max(e, e1 + 1, e2 + 1)
-        edges[e] = [a, c, l1, r1]
-        at[a] = (at[a] - {e1, e2}) | {e}
-        at[c] = (at[c] - {e1, e2}) | {e}
-        del at[v]
-    junction = set()
-    for v, es in at.items():
-        if len(es) != 2:
-            junction.add(v)
-            continue
-        e1, e2 = sorted(es)
-        (_, l1, r1), (_, l2, r2) = through(v, e1, e2)
-        if (l1, r1) != (l2, r2):
-            junction.add(v)
-    used = set()
-    chains = []
-
-    def walk(v, e):
-        chain, pair = [v], None
-        while True:
-            used.add(e)
-            a, b, left, right = edges[e]
-            v, lr = (b, (left, right)) if a == v else (a, (right, left))
-            assert pair is None or pair == lr
-            pair = lr
-            chain.append(v)
-            if v in junction or v == chain[0]:
-                return chain, pair
-            e = next(iter(at[v] - {e}))
-
-    for v in sorted(junction):
-        for e in sorted(at[v]):
-            if e not in used:
-                chains.append(walk(v, e))
-    for e in sorted(edges):
-        if e not in used:
-            chains.append(walk(edges[e][0], e))
+    faces, labels, left_of, merged = labelled_faces(lines, label, 1e-9 * area)
+    chains, _, _ = shared_curves(left_of, labels, original, fresh_ids=True)
     return chains, len(faces), merged
 
 
@@ -483,7 +358,7 @@ def check(chains):
     for f in polygonize([LineString(c) for c, _ in chains]):
         f = orient(f, 1.0)
         seen = set()
-        for r in [f.exterior] + list(f.interiors):
+        for r in rings_of(f):
             c = list(r.coords)
             for a, b in zip(c[:-1], c[1:]):
                 seen.add(side[(a, b)])
@@ -502,34 +377,6 @@ def relabel(chains):
     return [(c, (new[l], new[r])) for c, (l, r) in chains], len(ids)
 
 
-def polydata(chains, name, source):
-    pd = vtk.vtkPolyData()
-    points = vtk.vtkPoints()
-    points.SetDataTypeToDouble()
-    ids = {}
-    cells = vtk.vtkCellArray()
-    for c, _ in chains:
-        cells.InsertNextCell(len(c))
-        for p in c:
-            if p not in ids:
-                ids[p] = points.InsertNextPoint(p[0], p[1], 0.0)
-            cells.InsertCellPoint(ids[p])
-    pd.SetPoints(points)
-    pd.SetLines(cells)
-    for k, array_name in enumerate(("LeftRegion", "RightRegion")):
-        a = vtk.vtkIntArray()
-        a.SetName(array_name)
-        for _, lr in chains:
-            a.InsertNextValue(int(lr[k]))
-        pd.GetCellData().AddArray(a)
-    for key, text in (("Name", name), ("Source", source)):
-        s = vtk.vtkStringArray()
-        s.SetName(key)
-        s.InsertNextValue(text)
-        pd.GetFieldData().AddArray(s)
-    return pd
-
-
 def model(seed, out):
     kind = KINDS[seed % 4]
     rng = np.random.default_rng([seed, 68])
@@ -540,7 +387,9 @@ def model(seed, out):
     name = "g%03d_%s" % (seed, kind)
     source = "random_geology.py seed %d (%s): %s; %d faces, %d tiny merged, %d regions, %d curves" % (
         seed, kind, info, nfaces, merged, nregions, len(chains))
-    write_vtp(os.path.join(out, name + ".vtp"), polydata(chains, name, source))
+    write_vtp(os.path.join(out, name + ".vtp"), polydata(
+        [c for c, _ in chains], [("LeftRegion", [lr[0] for _, lr in chains]),
+                                 ("RightRegion", [lr[1] for _, lr in chains])], name, source))
     print("%s: %s" % (name, source))
 
 
