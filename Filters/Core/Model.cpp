@@ -961,7 +961,10 @@ void keepBorders(Region& region,
 // without the hole loop, or a Shared curves island whose outer side is labelled -1). That test
 // is made at the midpoint of the first border segment of each ring and of each run of it
 // between nodes of degree != 2: along such a run no other border comes near, so every region
-// but those bordering the run contains all of it or none of it.
+// but those bordering the run contains all of it or none of it. A test point inside another
+// region but within 1e-6 of the model's size of its border is let through (kOverlapNoise).
+constexpr double kOverlapNoise = 1e-6;
+
 void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loops)
 {
   struct Side
@@ -1176,6 +1179,24 @@ void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loop
     }
     if (over >= 0)
     {
+      // An overlap thinner than kOverlapNoise of the model's size at the test point is let
+      // through: rounding or digitizing noise between two neighbours' copies of a border (far
+      // thinner than any triangle), which the mesh cannot show either way.
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Ring& ring : model.regions[ringRegion[over]].rings)
+      {
+        const std::size_t n = ring.points.size();
+        for (std::size_t j = 0; j < n; ++j)
+        {
+          nearest = std::min(
+            nearest, pointSegmentDistance2(test.m, ring.points[j], ring.points[(j + 1) % n]));
+        }
+      }
+      if (std::sqrt(nearest) < kOverlapNoise * model.size())
+      {
+        i = e;
+        continue;
+      }
       const int id = model.regions[test.region].id;
       const int q = model.regions[ringRegion[over]].id;
       throw InputError("regions " + std::to_string(id) + " and " + std::to_string(q) +

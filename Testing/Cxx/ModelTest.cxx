@@ -911,6 +911,27 @@ TEST(ModelTest, rejects_an_island_whose_surrounding_region_has_no_hole_for_it)
   EXPECT_EQ(buildModel(apart).regions.size(), 2u);
 }
 
+TEST(ModelTest, an_overlap_thinner_than_a_millionth_of_the_model_is_let_through)
+{
+  // Region 1's copy of the shared border bends into region 0 by `poke` at (1, 0.5): a sliver
+  // of overlap. Noise (1e-8, 4.5e-9 of the model's size) builds; 1e-3 is an overlap.
+  for (const double poke : { 1e-8, 1e-3 })
+  {
+    RawPolylines raw;
+    addLoop(raw, { { 0, 0 }, { 1, 0 }, { 1, 0.5 }, { 1, 1 }, { 0, 1 } }, 0);
+    addLoop(raw, { { 1, 0 }, { 2, 0 }, { 2, 1 }, { 1, 1 }, { 1 - poke, 0.5 } }, 1);
+    if (poke < 1e-6)
+    {
+      EXPECT_EQ(buildModel(raw).regions.size(), 2u);
+    }
+    else
+    {
+      EXPECT_CONTAINS(
+        inputError(raw), "regions 0 and 1 overlap: the border of region 0 at (1, 0.25)");
+    }
+  }
+}
+
 TEST(ModelTest, rejects_two_regions_on_one_side_of_a_border)
 {
   // Region 1 is given the loop of region 0: both lie inside the same square.
