@@ -1167,36 +1167,33 @@ void checkOverlaps(const Model& model, const std::vector<int>& degree, bool loop
         }
       }
     }
+    // A region the test point lies inside (its parity odd) overlaps the test's region, unless
+    // the overlap is thinner than kOverlapNoise of the model's size there: rounding or
+    // digitizing noise between two neighbours' copies of a border (far thinner than any
+    // triangle), which the mesh cannot show either way.
     int over = -1;
     for (std::size_t k = i; k < e; ++k)
     {
       const int ring = crossings[k].second;
-      if (over < 0 && parity[ringRegion[ring]] != 0)
+      const int q = ringRegion[ring];
+      if (over < 0 && parity[q] != 0)
       {
-        over = ring;
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const Ring& other : model.regions[q].rings)
+        {
+          const std::size_t n = other.points.size();
+          for (std::size_t j = 0; j < n; ++j)
+          {
+            nearest = std::min(
+              nearest, pointSegmentDistance2(test.m, other.points[j], other.points[(j + 1) % n]));
+          }
+        }
+        over = std::sqrt(nearest) < kOverlapNoise * model.size() ? -1 : ring;
       }
-      parity[ringRegion[ring]] = 0;
+      parity[q] = 0;
     }
     if (over >= 0)
     {
-      // An overlap thinner than kOverlapNoise of the model's size at the test point is let
-      // through: rounding or digitizing noise between two neighbours' copies of a border (far
-      // thinner than any triangle), which the mesh cannot show either way.
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const Ring& ring : model.regions[ringRegion[over]].rings)
-      {
-        const std::size_t n = ring.points.size();
-        for (std::size_t j = 0; j < n; ++j)
-        {
-          nearest = std::min(
-            nearest, pointSegmentDistance2(test.m, ring.points[j], ring.points[(j + 1) % n]));
-        }
-      }
-      if (std::sqrt(nearest) < kOverlapNoise * model.size())
-      {
-        i = e;
-        continue;
-      }
       const int id = model.regions[test.region].id;
       const int q = model.regions[ringRegion[over]].id;
       throw InputError("regions " + std::to_string(id) + " and " + std::to_string(q) +
